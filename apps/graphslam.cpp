@@ -1,0 +1,311 @@
+// SPDX-License-Identifier: MIT
+// The graphslam command-line tool: subcommands over the library. No library logic here.
+#include <boost/program_options.hpp>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "builtins.h"
+#include "graphslam/core/error.h"
+#include "graphslam/core/file_util.h"
+#include "graphslam/core/io_g2o.h"
+#include "graphslam/core/logging.h"
+#include "graphslam/core/optimizer.h"
+#include "graphslam/core/plugin.h"
+#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+namespace po = boost::program_options;
+using namespace graphslam;
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;    // the optimisation did not succeed
+constexpr int kExitBadInput = 2;  // bad arguments or input data
+
+/// Thrown for bad command-line use; main prints it with the subcommand's usage hint.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Registries {
+  TypeRegistry types;
+  SolverRegistry solvers;
+  std::vector<std::unique_ptr<Plugin>> plugins;  // outlive every graph built from them
+};
+
+void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
+  apps::registerBuiltins(r.types, r.solvers);
+  for (const auto& path : plugins) r.plugins.push_back(Plugin::load(path, r.types, r.solvers));
+}
+
+po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
+                        const po::positional_options_description* pos = nullptr) {
+  po::variables_map vm;
+  auto parser = po::command_line_parser(args).options(desc);
+  if (pos) parser.positional(*pos);
+  po::store(parser.run(), vm);
+  po::notify(vm);
+  return vm;
+}
+
+void printHelp(const char* usage, const po::options_description& desc) {
+  std::cout << usage << "\n\n" << desc << "\n";
+}
+
+// ---------------------------------------------------------------------------------------
+// optimize
+
+constexpr const char* kOptimizeUsage =
+    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm gn|lm] [--solver NAME]\n"
+    "                          [--plugin LIB]... [--stats FILE.csv] [--quiet]\n"
+    "Optimises a .g2o graph and prints one line per iteration and a summary.\n"
+    "Without IN, optimises the built-in default graph (a simulated Manhattan world).";
+
+std::string csvLine(const IterationStats& s) {
+  std::ostringstream o;
+  o.precision(17);
+  o << s.iteration << ',' << s.chi2 << ',' << s.lambda << ',' << s.step_norm << ',' << s.attempts
+    << ',' << (s.accepted ? 1 : 0) << ',' << s.time.linearize << ',' << s.time.build << ','
+    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed;
+  return o.str();
+}
+
+int cmdOptimize(const std::vector<std::string>& args) {
+  std::string input, output, algorithm = "lm", solver = "cholmod", stats_file;
+  int iterations = 100;
+  std::vector<std::string> plugins;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")
+      ("input", po::value(&input), "input .g2o file")
+      ("output,o", po::value(&output), "write the optimised graph here (atomically)")
+      ("iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")
+      ("algorithm", po::value(&algorithm)->default_value("lm"), "gn (Gauss-Newton) or lm (Levenberg-Marquardt)")
+      ("solver", po::value(&solver)->default_value("cholmod"), "linear solver (see graphslam list-solvers)")
+      ("plugin", po::value(&plugins)->composing(), "load types/solvers from this shared library (repeatable)")
+      ("stats", po::value(&stats_file), "write per-iteration statistics as CSV")
+      ("quiet,q", "print only the summary");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  const auto vm = parse(args, desc, &pos);
+  if (vm.count("help")) {
+    printHelp(kOptimizeUsage, desc);
+    return kExitOk;
+  }
+  if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  Optimizer::Options options;
+  if (algorithm == "gn") {
+    options.algorithm = Algorithm::kGaussNewton;
+  } else if (algorithm == "lm") {
+    options.algorithm = Algorithm::kLevenbergMarquardt;
+  } else {
+    throw UsageError("--algorithm must be gn or lm, not '" + algorithm + "'");
+  }
+  options.max_iterations = iterations;
+  options.linear_solver = solver;
+
+  Registries reg;
+  loadRegistries(reg, plugins);
+  if (!reg.solvers.contains(solver)) {
+    throw UsageError("unknown solver '" + solver + "' (graphslam list-solvers shows the known ones)");
+  }
+
+  Graph graph;
+  if (input.empty()) {
+    types_slam2d::ManhattanOptions sim;
+    std::cout << "no input given: optimising the built-in default graph (simulated Manhattan world, "
+              << sim.num_poses << " poses, seed " << sim.seed << ")\n";
+    auto simulated = types_slam2d::simulateManhattan(sim);
+    graph = std::move(simulated.graph);
+  } else {
+    auto loaded = io::loadG2o(input, reg.types);
+    if (!loaded.ok()) {
+      for (const auto& d : loaded.diagnostics) std::cerr << d.str() << "\n";
+      return kExitBadInput;
+    }
+    graph = std::move(loaded.graph);
+  }
+  std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
+
+  const bool quiet = vm.count("quiet") != 0;
+  std::vector<std::string> csv;
+  options.callback = [&](const IterationStats& s) {
+    if (!quiet) {
+      std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration, s.chi2,
+                  s.lambda, s.step_norm, s.time.total(), s.accepted ? "" : "  (rejected)");
+      std::fflush(stdout);
+    }
+    csv.push_back(csvLine(s));
+  };
+  setLogLevel(LogLevel::kInfo);
+  setLogSink([](LogLevel level, const std::string& msg) {
+    std::fprintf(level >= LogLevel::kWarning ? stderr : stdout, "%s: %s\n", toString(level), msg.c_str());
+  });
+  Optimizer optimizer(graph, reg.solvers, options);
+  const Summary summary = optimizer.optimize();
+  std::cout << summary.report() << "\n";
+
+  if (!stats_file.empty()) {
+    writeFileAtomically(stats_file, [&](std::ostream& out) {
+      out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
+             "time_factorize,time_solve,elapsed\n";
+      for (const auto& line : csv) out << line << "\n";
+    });
+  }
+  if (!summary.succeeded() && summary.status != TerminationStatus::kNoProgress) {
+    std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message << "\n";
+    if (!output.empty()) std::cerr << "not writing " << output << "\n";
+    return kExitFailed;
+  }
+  if (!output.empty()) {
+    io::saveG2o(output, graph, reg.types);
+    std::cout << "wrote " << output << "\n";
+  }
+  return kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------
+// list-types, list-solvers
+
+int cmdListTypes(const std::vector<std::string>& args) {
+  std::vector<std::string> plugins;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")(
+      "plugin", po::value(&plugins)->composing(), "also load this plugin (repeatable)");
+  const auto vm = parse(args, desc);
+  if (vm.count("help")) {
+    printHelp("usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.", desc);
+    return kExitOk;
+  }
+  Registries reg;
+  loadRegistries(reg, plugins);
+  for (const auto* e : reg.types.entries()) {
+    if (e->kind == TypeRegistry::Kind::kVertex) {
+      auto v = e->make_vertex();
+      std::printf("%-24s vertex  dim %d  values %d  (%s)\n", e->tag.c_str(), v->dimension(),
+                  v->estimateDataDimension(), e->origin.c_str());
+    } else {
+      auto ed = e->make_edge();
+      std::printf("%-24s edge    dim %d  vertices %s  measurement %d  (%s)\n", e->tag.c_str(),
+                  ed->dimension(), ed->arity() > 0 ? std::to_string(ed->arity()).c_str() : "any",
+                  ed->measurementDataDimension(), e->origin.c_str());
+    }
+  }
+  return kExitOk;
+}
+
+int cmdListSolvers(const std::vector<std::string>& args) {
+  std::vector<std::string> plugins;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")(
+      "plugin", po::value(&plugins)->composing(), "also load this plugin (repeatable)");
+  const auto vm = parse(args, desc);
+  if (vm.count("help")) {
+    printHelp("usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers this build knows.", desc);
+    return kExitOk;
+  }
+  Registries reg;
+  loadRegistries(reg, plugins);
+  for (const auto* e : reg.solvers.entries()) {
+    std::printf("%-22s %s  (%s)\n", e->name.c_str(), e->description.c_str(), e->origin.c_str());
+  }
+  return kExitOk;
+}
+
+// ---------------------------------------------------------------------------------------
+// simulate
+
+int cmdSimulate(const std::vector<std::string>& args) {
+  std::string output, truth;
+  types_slam2d::ManhattanOptions sim;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")
+      ("output,o", po::value(&output), "write the graph (odometry initial guess) here")
+      ("truth", po::value(&truth), "write the ground truth graph (same edges, true vertices) here")
+      ("poses", po::value(&sim.num_poses)->default_value(sim.num_poses), "number of poses")
+      ("landmarks", po::value(&sim.num_landmarks)->default_value(0), "number of landmarks")
+      ("seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")
+      ("world-size", po::value(&sim.world_size)->default_value(0), "side of the square world in grid cells (0: automatic)");
+  const auto vm = parse(args, desc);
+  if (vm.count("help")) {
+    printHelp("usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed S]\n"
+              "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks.",
+              desc);
+    return kExitOk;
+  }
+  if (output.empty()) throw UsageError("simulate needs -o OUT.g2o");
+  if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
+  Registries reg;
+  loadRegistries(reg, {});
+  auto result = types_slam2d::simulateManhattan(sim);
+  io::saveG2o(output, result.graph, reg.types);
+  std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
+            << result.graph.numEdges() << " edges (" << result.num_loop_closures << " loop closures, "
+            << result.num_observations << " landmark observations)\n";
+  if (!truth.empty()) {
+    for (int i = 0; i < sim.num_poses; ++i) {
+      static_cast<types_slam2d::VertexSE2*>(result.graph.vertex(i))->setEstimate(result.true_poses[i]);
+    }
+    for (std::size_t k = 0; k < result.true_landmarks.size(); ++k) {
+      static_cast<types_slam2d::VertexXY*>(result.graph.vertex(sim.num_poses + static_cast<int>(k)))
+          ->setEstimate(result.true_landmarks[k]);
+    }
+    io::saveG2o(truth, result.graph, reg.types);
+    std::cout << "wrote " << truth << " (ground truth)\n";
+  }
+  return kExitOk;
+}
+
+constexpr const char* kMainUsage =
+    "usage: graphslam COMMAND [options]   (graphslam COMMAND --help for each)\n"
+    "\n"
+    "commands:\n"
+    "  optimize       optimise a .g2o graph (or the built-in default graph)\n"
+    "  simulate       write a synthetic Manhattan-world graph with ground truth\n"
+    "  list-types     list the .g2o tags this build knows\n"
+    "  list-solvers   list the linear solvers this build knows\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr << kMainUsage;
+    return kExitBadInput;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (command == "--help" || command == "-h" || command == "help") {
+    std::cout << kMainUsage;
+    return kExitOk;
+  }
+  if (command == "--version") {
+    std::cout << "graphslam " << GRAPHSLAM_VERSION << "\n";
+    return kExitOk;
+  }
+  try {
+    if (command == "optimize") return cmdOptimize(args);
+    if (command == "list-types") return cmdListTypes(args);
+    if (command == "list-solvers") return cmdListSolvers(args);
+    if (command == "simulate") return cmdSimulate(args);
+    std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
+    return kExitBadInput;
+  } catch (const po::error& e) {
+    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command << " --help)\n";
+    return kExitBadInput;
+  } catch (const UsageError& e) {
+    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command << " --help)\n";
+    return kExitBadInput;
+  } catch (const Error& e) {
+    std::cerr << "graphslam " << command << ": " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "graphslam " << command << ": internal error: " << e.what() << "\n";
+    return kExitFailed;
+  }
+}

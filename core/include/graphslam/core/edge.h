@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "graphslam/core/vertex.h"
+
+namespace graphslam {
+
+/// Where one (vertex a, vertex b) block of J_a^T Omega J_b lives inside the CSC value array
+/// of H. The block is stored column-major with a column stride of `stride`; when
+/// `transposed` is set the stored block is (b, a) and receives the transpose.
+/// `offset` is -1 when either vertex is fixed (the block is not part of the system).
+struct HessianBlockRef {
+  int offset = -1;
+  int stride = 0;
+  bool transposed = false;
+};
+
+/// Everything an edge needs to add its contribution to H and b, filled by the optimizer.
+/// `blocks` lists the pairs (a, b) with a <= b of the edge's vertex slots in row-major
+/// upper-triangle order: (0,0), (0,1), ..., (0,n-1), (1,1), ..., (n-1,n-1).
+/// `b_offsets[k]` is the first row of slot k in b, or -1 when that vertex is fixed.
+struct QuadraticFormTarget {
+  double* hessian = nullptr;
+  double* gradient = nullptr;
+  const HessianBlockRef* blocks = nullptr;
+  const int* b_offsets = nullptr;
+};
+
+/// Index of the pair (a, b), a <= b, in `QuadraticFormTarget::blocks` for an edge of
+/// arity n.
+constexpr int upperPairIndex(int a, int b, int n) { return a * n - a * (a - 1) / 2 + (b - a); }
+
+/// A measurement: an error function of the estimates of its vertices, weighted by an
+/// information matrix. chi2 = e^T Omega e.
+///
+/// The framework hooks are `computeError()` (stores e at the current estimates) and
+/// `linearizeOplus()` (stores de/d(delta) for every vertex). Types derive from the
+/// fixed-size bases (`FixedEdge`, `BaseUnaryEdge`, `BaseBinaryEdge`) or, for dynamic
+/// arity, `BaseMultiEdge`, which implement the rest.
+class Edge {
+ public:
+  /// `arity` is the number of vertices, or -1 when it is set per instance (multi-edges).
+  Edge(int dimension, int arity) : dimension_(dimension), arity_(arity) {
+    if (arity > 0) vertex_ids_.assign(static_cast<std::size_t>(arity), -1);
+  }
+  virtual ~Edge() = default;
+  Edge(const Edge&) = delete;
+  Edge& operator=(const Edge&) = delete;
+
+  /// Error (residual) dimension.
+  [[nodiscard]] int dimension() const { return dimension_; }
+  /// Number of vertices the type takes, -1 for dynamic arity.
+  [[nodiscard]] int arity() const { return arity_; }
+
+  [[nodiscard]] std::size_t numVertices() const { return vertex_ids_.size(); }
+  [[nodiscard]] const std::vector<VertexId>& vertexIds() const { return vertex_ids_; }
+  [[nodiscard]] VertexId vertexId(std::size_t slot) const { return vertex_ids_.at(slot); }
+  /// Before the edge is added to a graph. Throws graphslam::Error on a wrong count.
+  void setVertexIds(std::vector<VertexId> ids);
+  void setVertexId(std::size_t slot, VertexId id);
+
+  /// Vertex in `slot`, resolved by the graph (nullptr before insertion).
+  [[nodiscard]] const Vertex* vertex(std::size_t slot) const { return vertices_[slot]; }
+  [[nodiscard]] bool allVerticesFixed() const;
+
+  /// Whether `v` has the type slot `slot` expects (checked by Graph::addEdge).
+  [[nodiscard]] virtual bool acceptsVertex(std::size_t slot, const Vertex& v) const = 0;
+  /// Human-readable name of the vertex type a slot expects, for diagnostics.
+  [[nodiscard]] virtual std::string expectedVertexType(std::size_t slot) const = 0;
+
+  /// Framework hook: compute and store the error at the current estimates.
+  virtual void computeError() = 0;
+  /// Framework hook: compute and store the Jacobians at the current estimates.
+  virtual void linearizeOplus() = 0;
+  /// e^T Omega e of the stored error.
+  [[nodiscard]] virtual double chi2() const = 0;
+  /// Adds J_a^T Omega J_b into H and J_a^T Omega e into b (gradient), from the stored
+  /// error and Jacobians.
+  virtual void constructQuadraticForm(const QuadraticFormTarget& target) const = 0;
+
+  /// Stored error, `dimension()` doubles.
+  [[nodiscard]] virtual const double* errorData() const = 0;
+  /// Stored Jacobian of slot `slot`: dimension() x vertex(slot)->dimension(), column-major.
+  [[nodiscard]] virtual const double* jacobianData(std::size_t slot) const = 0;
+
+  /// Flat measurement (what a `.g2o` line holds between the ids and the information).
+  [[nodiscard]] virtual int measurementDataDimension() const = 0;
+  virtual void getMeasurementData(double* data) const = 0;
+  virtual void setMeasurementData(const double* data) = 0;
+  /// Information matrix, dimension() x dimension(), column-major.
+  [[nodiscard]] virtual const double* informationData() const = 0;
+  virtual void setInformationData(const double* data) = 0;
+
+ protected:
+  /// Mutable access for the g2o-style numeric Jacobian fallback only.
+  [[nodiscard]] Vertex* mutableVertex(std::size_t slot) const { return vertices_[slot]; }
+
+ private:
+  friend class Graph;
+  int dimension_;
+  int arity_;
+  std::vector<VertexId> vertex_ids_;
+  std::vector<Vertex*> vertices_;
+};
+
+}  // namespace graphslam

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/type_registry.h"
+
+namespace graphslam::io {
+
+/// One problem found in an input file.
+struct Diagnostic {
+  std::string file;
+  int line = 0;
+  std::string message;
+  /// `FILE:LINE: message`
+  [[nodiscard]] std::string str() const;
+};
+
+struct LoadOptions {
+  /// Strict (default): the first bad line makes the load fail. Lenient: bad lines are
+  /// reported, skipped and counted.
+  bool strict = true;
+};
+
+struct LoadResult {
+  Graph graph;
+  std::vector<Diagnostic> diagnostics;
+  std::size_t skipped_lines = 0;
+  bool failed = false;  ///< strict mode met an error; `graph` holds what was read before it
+  [[nodiscard]] bool ok() const { return !failed; }
+};
+
+/// Reads a `.g2o` file through `types`: one element per line, `TAG values...`, `FIX id...`,
+/// `#` comments. Checks: unknown tag, wrong number of tokens, non-numbers, NaN/Inf,
+/// duplicate vertex id, edge to an undefined vertex, vertex of the wrong type,
+/// information matrix not positive definite. Never throws for bad data; a file that
+/// cannot be opened is reported as a diagnostic with line 0.
+[[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
+                                 const LoadOptions& options = {});
+/// Same, from a stream; `name` is used in diagnostics.
+[[nodiscard]] LoadResult readG2o(std::istream& in, const std::string& name,
+                                 const TypeRegistry& types, const LoadOptions& options = {});
+
+/// Writes vertices (by id), `FIX` lines, then edges (in graph order). Numbers are written
+/// with the shortest representation that reads back exactly. Throws graphslam::Error when
+/// a vertex or edge type is not registered.
+void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types);
+/// writeG2o to `path`, atomically (temporary file + rename).
+void saveG2o(const std::string& path, const Graph& graph, const TypeRegistry& types);
+
+}  // namespace graphslam::io

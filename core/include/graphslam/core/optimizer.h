@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam {
+
+enum class Algorithm {
+  kGaussNewton,
+  kLevenbergMarquardt,
+};
+
+[[nodiscard]] const char* toString(Algorithm algorithm);
+
+/// How an optimisation ended.
+enum class TerminationStatus {
+  kConverged,          ///< relative chi2 decrease or step below tolerance
+  kMaxIterations,      ///< iteration budget used up
+  kNoProgress,         ///< LM could not find a decreasing step
+  kNumericalFailure,   ///< factorisation failed (singular / not positive definite) or NaN
+  kUnderDetermined,    ///< nothing to optimise or the system cannot be built
+};
+
+[[nodiscard]] const char* toString(TerminationStatus status);
+
+/// Wall time spent in each phase, in seconds.
+struct TimeSplit {
+  double linearize = 0.0;  ///< computeError + linearizeOplus over all edges
+  double build = 0.0;      ///< assembly of H and b (plus structure analysis when it changed)
+  double factorize = 0.0;  ///< numeric factorisation (every LM attempt)
+  double solve = 0.0;      ///< triangular solves, update and chi2 of the new estimate
+  [[nodiscard]] double total() const { return linearize + build + factorize + solve; }
+  TimeSplit& operator+=(const TimeSplit& o);
+};
+
+/// One outer iteration (one linearisation).
+struct IterationStats {
+  int iteration = 0;          ///< 1-based
+  double chi2 = 0.0;          ///< after the iteration's (accepted) step
+  double lambda = 0.0;        ///< damping used by the accepted step (0 for Gauss-Newton)
+  double step_norm = 0.0;     ///< max-norm of the accepted update
+  int attempts = 1;           ///< factorisations this iteration (LM retries on rejection)
+  bool accepted = true;       ///< false when LM found no decreasing step
+  TimeSplit time;
+  double elapsed = 0.0;       ///< since optimize() started
+};
+
+/// Result of Optimizer::optimize().
+struct Summary {
+  TerminationStatus status = TerminationStatus::kUnderDetermined;
+  std::string message;
+  Algorithm algorithm = Algorithm::kLevenbergMarquardt;
+  std::string linear_solver;
+  double initial_chi2 = 0.0;
+  double final_chi2 = 0.0;
+  int iterations = 0;
+  std::vector<IterationStats> per_iteration;
+  TimeSplit time;
+  double total_time = 0.0;  ///< wall time of optimize(), including set-up
+  std::size_t num_vertices = 0;  ///< optimised (non-fixed) vertices
+  std::size_t num_edges = 0;
+  int system_dimension = 0;
+  std::size_t hessian_nonzeros = 0;  ///< stored non-zeros (upper triangle, full diagonal blocks)
+  std::size_t factor_nonzeros = 0;
+  /// Vertices the optimizer fixed to remove the gauge freedom (see Options::fix_gauge).
+  std::vector<VertexId> gauge_fixed;
+  /// Connected groups of non-fixed vertices with no fixed vertex and no unary edge: their
+  /// position is undetermined. Each holds up to 20 ids (smallest first).
+  std::vector<std::vector<VertexId>> unanchored;
+
+  [[nodiscard]] bool succeeded() const {
+    return status == TerminationStatus::kConverged || status == TerminationStatus::kMaxIterations;
+  }
+  /// Multi-line human-readable report.
+  [[nodiscard]] std::string report() const;
+};
+
+/// Sparse nonlinear least squares over a Graph: minimises sum_e e^T Omega e.
+class Optimizer {
+ public:
+  struct Options {
+    Algorithm algorithm = Algorithm::kLevenbergMarquardt;
+    int max_iterations = 100;
+    std::string linear_solver = "cholmod";
+    /// Converged when an accepted step lowers chi2 by less than this fraction.
+    double function_tolerance = 1e-10;
+    /// Converged when the max-norm of the update is below this.
+    double step_tolerance = 1e-12;
+    /// LM: initial damping = initial_lambda_factor * max diagonal entry of H.
+    double initial_lambda_factor = 1e-5;
+    /// LM: retries (factorisations with larger damping) before giving up.
+    int max_rejections = 10;
+    /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
+    /// after optimize()).
+    bool fix_gauge = true;
+    /// Called after every iteration (progress output is the caller's business).
+    std::function<void(const IterationStats&)> callback;
+  };
+
+  /// The graph and registry must outlive the optimizer. Throws RegistryError when the
+  /// linear solver name is unknown.
+  Optimizer(Graph& graph, const SolverRegistry& solvers, Options options);
+  Optimizer(Graph& graph, const SolverRegistry& solvers);
+  ~Optimizer();
+  Optimizer(const Optimizer&) = delete;
+  Optimizer& operator=(const Optimizer&) = delete;
+
+  [[nodiscard]] const Options& options() const { return options_; }
+  Options& mutableOptions() { return options_; }
+
+  /// Runs up to options().max_iterations iterations from the current estimates.
+  Summary optimize();
+
+  /// Current chi2 (recomputes all errors).
+  [[nodiscard]] double chi2();
+
+ private:
+  struct Impl;
+  Graph& graph_;
+  const SolverRegistry& solvers_;
+  Options options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace graphslam

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+namespace graphslam {
+
+using VertexId = int;
+
+class Edge;
+class Graph;
+
+/// A variable of the optimisation problem: an estimate living on a manifold of tangent
+/// dimension `dimension()`, updated by `oplus(delta)`.
+///
+/// Most types derive from `BaseVertex<D, Estimate>`, which implements everything here
+/// except the retraction `plus()`.
+class Vertex {
+ public:
+  explicit Vertex(int dimension) : dimension_(dimension) {}
+  virtual ~Vertex() = default;
+  Vertex(const Vertex&) = delete;
+  Vertex& operator=(const Vertex&) = delete;
+
+  [[nodiscard]] VertexId id() const { return id_; }
+  /// Only before the vertex is added to a graph.
+  void setId(VertexId id) { id_ = id; }
+
+  /// A fixed vertex is held constant by the optimizer (it has no columns in H).
+  [[nodiscard]] bool fixed() const { return fixed_; }
+  void setFixed(bool fixed) { fixed_ = fixed; }
+
+  /// Tangent-space (update) dimension.
+  [[nodiscard]] int dimension() const { return dimension_; }
+
+  /// Number of doubles of the flat estimate representation (what a `.g2o` line holds).
+  [[nodiscard]] virtual int estimateDataDimension() const = 0;
+  virtual void getEstimateData(double* data) const = 0;
+  virtual void setEstimateData(const double* data) = 0;
+
+  /// x <- x (+) delta, with `delta` of length `dimension()`.
+  virtual void oplus(const double* delta) = 0;
+
+  /// Single-level backup of the estimate (used by the optimizer to undo rejected steps).
+  virtual void push() = 0;
+  virtual void pop() = 0;
+
+  /// Edges incident to this vertex (maintained by the owning Graph).
+  [[nodiscard]] const std::vector<Edge*>& edges() const { return edges_; }
+
+  /// Offset of this vertex's first column in the optimizer's system, -1 when fixed or not
+  /// part of the current problem. Set by the optimizer.
+  [[nodiscard]] int hessianIndex() const { return hessian_index_; }
+  void setHessianIndex(int index) { hessian_index_ = index; }
+
+ private:
+  friend class Graph;
+  VertexId id_ = -1;
+  int dimension_;
+  bool fixed_ = false;
+  int hessian_index_ = -1;
+  std::vector<Edge*> edges_;
+};
+
+}  // namespace graphslam

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/core/graph.h"
+
+#include <algorithm>
+#include <string>
+
+#include "graphslam/core/error.h"
+
+namespace graphslam {
+
+void Edge::setVertexIds(std::vector<VertexId> ids) {
+  if (arity_ > 0 && static_cast<int>(ids.size()) != arity_) {
+    throw Error("edge takes " + std::to_string(arity_) + " vertices, " +
+                std::to_string(ids.size()) + " given");
+  }
+  if (!vertices_.empty()) throw Error("vertex ids of an edge cannot change once it is in a graph");
+  vertex_ids_ = std::move(ids);
+}
+
+void Edge::setVertexId(std::size_t slot, VertexId id) {
+  if (slot >= vertex_ids_.size()) {
+    throw Error("edge slot " + std::to_string(slot) + " out of range (edge has " +
+                std::to_string(vertex_ids_.size()) + " slots)");
+  }
+  if (!vertices_.empty()) throw Error("vertex ids of an edge cannot change once it is in a graph");
+  vertex_ids_[slot] = id;
+}
+
+bool Edge::allVerticesFixed() const {
+  return std::all_of(vertices_.begin(), vertices_.end(),
+                     [](const Vertex* v) { return v->fixed(); });
+}
+
+Graph::~Graph() = default;
+
+Vertex& Graph::addVertex(std::unique_ptr<Vertex> vertex) {
+  if (!vertex) throw Error("addVertex: null vertex");
+  const VertexId id = vertex->id();
+  auto [it, inserted] = vertices_.emplace(id, std::move(vertex));
+  if (!inserted) throw Error("addVertex: duplicate vertex id " + std::to_string(id));
+  ++version_;
+  return *it->second;
+}
+
+Edge& Graph::addEdge(std::unique_ptr<Edge> edge) {
+  if (!edge) throw Error("addEdge: null edge");
+  const auto& ids = edge->vertexIds();
+  if (ids.empty()) throw Error("addEdge: edge has no vertices");
+  std::vector<Vertex*> resolved;
+  resolved.reserve(ids.size());
+  for (std::size_t slot = 0; slot < ids.size(); ++slot) {
+    const VertexId id = ids[slot];
+    auto it = vertices_.find(id);
+    if (it == vertices_.end()) {
+      throw Error("addEdge: edge refers to vertex " + std::to_string(id) +
+                  ", which is not in the graph");
+    }
+    if (std::find(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(slot), id) !=
+        ids.begin() + static_cast<std::ptrdiff_t>(slot)) {
+      throw Error("addEdge: vertex " + std::to_string(id) + " appears twice in one edge");
+    }
+    if (!edge->acceptsVertex(slot, *it->second)) {
+      throw Error("addEdge: vertex " + std::to_string(id) + " has the wrong type for slot " +
+                  std::to_string(slot) + " (expected " + edge->expectedVertexType(slot) + ")");
+    }
+    resolved.push_back(it->second.get());
+  }
+  edge->vertices_ = std::move(resolved);
+  Edge* raw = edge.get();
+  for (Vertex* v : raw->vertices_) v->edges_.push_back(raw);
+  edges_.push_back(std::move(edge));
+  ++version_;
+  return *raw;
+}
+
+bool Graph::removeVertex(VertexId id) {
+  auto it = vertices_.find(id);
+  if (it == vertices_.end()) return false;
+  const std::vector<Edge*> incident = it->second->edges();
+  if (!incident.empty()) {
+    removeEdges([&incident](const Edge& e) {
+      return std::find(incident.begin(), incident.end(), &e) != incident.end();
+    });
+  }
+  vertices_.erase(it);
+  ++version_;
+  return true;
+}
+
+bool Graph::removeEdge(const Edge* edge) {
+  return removeEdges([edge](const Edge& e) { return &e == edge; }) != 0;
+}
+
+std::size_t Graph::removeEdges(const std::function<bool(const Edge&)>& pred) {
+  std::size_t removed = 0;
+  auto keep_end = std::stable_partition(edges_.begin(), edges_.end(),
+                                        [&pred](const std::unique_ptr<Edge>& e) { return !pred(*e); });
+  for (auto it = keep_end; it != edges_.end(); ++it) {
+    Edge* e = it->get();
+    for (Vertex* v : e->vertices_) {
+      auto& inc = v->edges_;
+      inc.erase(std::remove(inc.begin(), inc.end(), e), inc.end());
+    }
+    ++removed;
+  }
+  edges_.erase(keep_end, edges_.end());
+  if (removed) ++version_;
+  return removed;
+}
+
+void Graph::clear() {
+  edges_.clear();
+  vertices_.clear();
+  ++version_;
+}
+
+Vertex* Graph::vertex(VertexId id) {
+  auto it = vertices_.find(id);
+  return it == vertices_.end() ? nullptr : it->second.get();
+}
+
+const Vertex* Graph::vertex(VertexId id) const {
+  auto it = vertices_.find(id);
+  return it == vertices_.end() ? nullptr : it->second.get();
+}
+
+double Graph::chi2() {
+  double sum = 0.0;
+  for (auto& e : edges_) {
+    e->computeError();
+    sum += e->chi2();
+  }
+  return sum;
+}
+
+}  // namespace graphslam

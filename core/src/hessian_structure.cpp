@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+#include "hessian_structure.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace graphslam::detail {
+
+bool HessianStructure::stale(const Graph& graph) const {
+  if (graph.structureVersion() != version_) return true;
+  std::size_t i = 0;
+  for (const auto& [id, v] : graph.vertices()) {
+    if (fixed_snapshot_[i++] != static_cast<char>(v->fixed())) return true;
+  }
+  return false;
+}
+
+void HessianStructure::build(Graph& graph) {
+  version_ = graph.structureVersion();
+  fixed_snapshot_.clear();
+  active_vertices_.clear();
+  block_starts_.assign(1, 0);
+  std::unordered_map<const Vertex*, int> block_of;
+  int col = 0;
+  for (const auto& [id, v] : graph.vertices()) {
+    fixed_snapshot_.push_back(static_cast<char>(v->fixed()));
+    v->setHessianIndex(-1);
+    if (v->fixed() || v->edges().empty()) continue;
+    v->setHessianIndex(col);
+    block_of.emplace(v.get(), static_cast<int>(active_vertices_.size()));
+    active_vertices_.push_back(v.get());
+    col += v->dimension();
+    block_starts_.push_back(col);
+  }
+  n_ = col;
+  const int nb = static_cast<int>(active_vertices_.size());
+
+  // Block pattern: for every block column, the block rows (<= column) it holds.
+  std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) rows_of[b].push_back(b);
+  active_edges_.clear();
+  std::vector<int> blocks;
+  for (const auto& e : graph.edges()) {
+    blocks.clear();
+    for (std::size_t s = 0; s < e->numVertices(); ++s) {
+      const Vertex* v = e->vertex(s);
+      blocks.push_back(v->hessianIndex() >= 0 ? block_of.at(v) : -1);
+    }
+    if (std::all_of(blocks.begin(), blocks.end(), [](int b) { return b < 0; })) continue;
+    active_edges_.push_back(e.get());
+    for (std::size_t a = 0; a < blocks.size(); ++a) {
+      for (std::size_t b = a + 1; b < blocks.size(); ++b) {
+        if (blocks[a] < 0 || blocks[b] < 0) continue;
+        const int lo = std::min(blocks[a], blocks[b]);
+        const int hi = std::max(blocks[a], blocks[b]);
+        rows_of[hi].push_back(lo);
+      }
+    }
+  }
+  for (auto& rows : rows_of) {
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  }
+
+  // Scalar CSC: every column of block column j holds all rows of its row blocks, so the
+  // diagonal block is stored full and every column of a block has the same length.
+  std::vector<std::vector<int>> within(static_cast<std::size_t>(nb));  // prefix offsets
+  std::vector<int> col_len(static_cast<std::size_t>(nb));
+  std::size_t nnz = 0;
+  for (int j = 0; j < nb; ++j) {
+    int len = 0;
+    within[j].reserve(rows_of[j].size());
+    for (int r : rows_of[j]) {
+      within[j].push_back(len);
+      len += block_starts_[r + 1] - block_starts_[r];
+    }
+    col_len[j] = len;
+    nnz += static_cast<std::size_t>(len) * static_cast<std::size_t>(block_starts_[j + 1] - block_starts_[j]);
+  }
+  col_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
+  row_idx_.clear();
+  row_idx_.reserve(nnz);
+  diag_pos_.assign(static_cast<std::size_t>(n_), 0);
+  for (int j = 0; j < nb; ++j) {
+    const int dj = block_starts_[j + 1] - block_starts_[j];
+    const auto diag_at = std::lower_bound(rows_of[j].begin(), rows_of[j].end(), j) - rows_of[j].begin();
+    for (int k = 0; k < dj; ++k) {
+      const int c = block_starts_[j] + k;
+      col_ptr_[c + 1] = col_ptr_[c] + col_len[j];
+      for (int r : rows_of[j]) {
+        for (int i = block_starts_[r]; i < block_starts_[r + 1]; ++i) row_idx_.push_back(i);
+      }
+      diag_pos_[c] = col_ptr_[c] + within[j][diag_at] + k;
+    }
+  }
+
+  auto block_ref = [&](int bi, int bj) {
+    HessianBlockRef ref;
+    ref.transposed = bi > bj;
+    if (ref.transposed) std::swap(bi, bj);
+    const auto& rows = rows_of[bj];
+    const auto pos = std::lower_bound(rows.begin(), rows.end(), bi) - rows.begin();
+    ref.offset = col_ptr_[block_starts_[bj]] + within[bj][pos];
+    ref.stride = col_len[bj];
+    return ref;
+  };
+
+  refs_.clear();
+  b_offsets_.clear();
+  edge_ref_start_.clear();
+  edge_b_start_.clear();
+  for (Edge* e : active_edges_) {
+    edge_ref_start_.push_back(refs_.size());
+    edge_b_start_.push_back(b_offsets_.size());
+    const std::size_t n = e->numVertices();
+    for (std::size_t a = 0; a < n; ++a) {
+      const Vertex* va = e->vertex(a);
+      b_offsets_.push_back(va->hessianIndex());
+      for (std::size_t b = a; b < n; ++b) {
+        const Vertex* vb = e->vertex(b);
+        if (va->hessianIndex() < 0 || vb->hessianIndex() < 0) {
+          refs_.push_back(HessianBlockRef{});
+        } else {
+          refs_.push_back(block_ref(block_of.at(va), block_of.at(vb)));
+        }
+      }
+    }
+  }
+}
+
+SparseStructure HessianStructure::sparseStructure() const {
+  SparseStructure s;
+  s.n = n_;
+  s.col_ptr = col_ptr_.data();
+  s.row_idx = row_idx_.data();
+  s.block_starts = block_starts_.data();
+  s.num_blocks = static_cast<int>(active_vertices_.size());
+  return s;
+}
+
+void HessianStructure::assemble(std::vector<double>& values, std::vector<double>& gradient) const {
+  values.assign(row_idx_.size(), 0.0);
+  gradient.assign(static_cast<std::size_t>(n_), 0.0);
+  QuadraticFormTarget target;
+  target.hessian = values.data();
+  target.gradient = gradient.data();
+  for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+    target.blocks = refs_.data() + edge_ref_start_[k];
+    target.b_offsets = b_offsets_.data() + edge_b_start_[k];
+    active_edges_[k]->constructQuadraticForm(target);
+  }
+}
+
+VertexId HessianStructure::vertexOfColumn(int col) const {
+  if (col < 0 || col >= n_) return -1;
+  const auto it = std::upper_bound(block_starts_.begin(), block_starts_.end(), col);
+  const auto block = (it - block_starts_.begin()) - 1;
+  return active_vertices_[static_cast<std::size_t>(block)]->id();
+}
+
+}  // namespace graphslam::detail

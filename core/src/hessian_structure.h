@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::core: the block sparsity structure of H, built once per graph
+// change, with the position of every edge's blocks inside the CSC value array.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "graphslam/core/edge.h"
+#include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam::detail {
+
+class HessianStructure {
+ public:
+  /// Rebuilds from the graph: the active vertices are the non-fixed ones with at least
+  /// one edge, ordered by id; the active edges those with at least one active vertex.
+  void build(Graph& graph);
+
+  /// Whether the graph changed (vertices/edges added or removed, fixed flags changed)
+  /// since the last build().
+  [[nodiscard]] bool stale(const Graph& graph) const;
+
+  [[nodiscard]] SparseStructure sparseStructure() const;
+  [[nodiscard]] int dimension() const { return n_; }
+  [[nodiscard]] std::size_t nonZeros() const { return row_idx_.size(); }
+
+  /// Zeroes H and b, then asks every active edge to add its blocks.
+  void assemble(std::vector<double>& values, std::vector<double>& gradient) const;
+
+  /// Positions of the diagonal entries of H inside the value array.
+  [[nodiscard]] const std::vector<int>& diagonalPositions() const { return diag_pos_; }
+  [[nodiscard]] const std::vector<Vertex*>& activeVertices() const { return active_vertices_; }
+  [[nodiscard]] const std::vector<Edge*>& activeEdges() const { return active_edges_; }
+  /// Id of the vertex owning column `col`, -1 if out of range.
+  [[nodiscard]] VertexId vertexOfColumn(int col) const;
+
+ private:
+  std::uint64_t version_ = ~std::uint64_t{0};
+  std::vector<char> fixed_snapshot_;
+  int n_ = 0;
+  std::vector<Vertex*> active_vertices_;
+  std::vector<int> block_starts_;
+  std::vector<int> col_ptr_;
+  std::vector<int> row_idx_;
+  std::vector<int> diag_pos_;
+  std::vector<Edge*> active_edges_;
+  std::vector<std::size_t> edge_ref_start_;  // per active edge, into refs_/b_offsets_
+  std::vector<std::size_t> edge_b_start_;
+  std::vector<HessianBlockRef> refs_;
+  std::vector<int> b_offsets_;
+};
+
+}  // namespace graphslam::detail

@@ -1,0 +1,395 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/core/optimizer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "graphslam/core/error.h"
+#include "graphslam/core/logging.h"
+#include "hessian_structure.h"
+
+namespace graphslam {
+
+const char* toString(Algorithm algorithm) {
+  switch (algorithm) {
+    case Algorithm::kGaussNewton: return "gauss-newton";
+    case Algorithm::kLevenbergMarquardt: return "levenberg-marquardt";
+  }
+  return "?";
+}
+
+const char* toString(TerminationStatus status) {
+  switch (status) {
+    case TerminationStatus::kConverged: return "converged";
+    case TerminationStatus::kMaxIterations: return "maximum iterations reached";
+    case TerminationStatus::kNoProgress: return "no progress";
+    case TerminationStatus::kNumericalFailure: return "numerical failure";
+    case TerminationStatus::kUnderDetermined: return "under-determined";
+  }
+  return "?";
+}
+
+TimeSplit& TimeSplit::operator+=(const TimeSplit& o) {
+  linearize += o.linearize;
+  build += o.build;
+  factorize += o.factorize;
+  solve += o.solve;
+  return *this;
+}
+
+std::string Summary::report() const {
+  std::ostringstream s;
+  s.precision(10);
+  s << "status:        " << toString(status);
+  if (!message.empty()) s << " (" << message << ")";
+  s << "\nalgorithm:     " << toString(algorithm) << ", linear solver " << linear_solver
+    << "\nproblem:       " << num_vertices << " free vertices, " << num_edges << " edges, "
+    << system_dimension << " unknowns, nnz(H) " << hessian_nonzeros << ", nnz(L) "
+    << factor_nonzeros << "\nchi2:          " << initial_chi2 << " -> " << final_chi2
+    << "\niterations:    " << iterations;
+  s.precision(4);
+  s << "\ntime:          " << total_time << " s (linearize " << time.linearize << ", build "
+    << time.build << ", factorize " << time.factorize << ", solve " << time.solve << ")";
+  if (!gauge_fixed.empty()) {
+    s << "\ngauge:         fixed vertex";
+    for (VertexId id : gauge_fixed) s << ' ' << id;
+  }
+  for (const auto& group : unanchored) {
+    s << "\nunanchored:    vertices";
+    for (VertexId id : group) s << ' ' << id;
+  }
+  return s.str();
+}
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+}  // namespace
+
+struct Optimizer::Impl {
+  detail::HessianStructure structure;
+  std::unique_ptr<LinearSolver> solver;
+  std::string solver_name;
+  bool analyzed = false;
+  std::vector<double> values;
+  std::vector<double> gradient;
+  std::vector<double> rhs;
+  std::vector<double> dx;
+  std::vector<double> saved_diag;
+
+  double evalChi2(Graph& graph) {
+    double sum = 0.0;
+    for (const auto& e : graph.edges()) {
+      e->computeError();
+      sum += e->chi2();
+    }
+    return sum;
+  }
+
+  void applyUpdate() {
+    for (Vertex* v : structure.activeVertices()) {
+      v->push();
+      v->oplus(dx.data() + v->hessianIndex());
+    }
+  }
+  void undoUpdate() {
+    for (Vertex* v : structure.activeVertices()) v->pop();
+  }
+};
+
+Optimizer::Optimizer(Graph& graph, const SolverRegistry& solvers, Options options)
+    : graph_(graph), solvers_(solvers), options_(std::move(options)), impl_(std::make_unique<Impl>()) {
+  impl_->solver = solvers_.create(options_.linear_solver);
+  impl_->solver_name = options_.linear_solver;
+}
+
+Optimizer::Optimizer(Graph& graph, const SolverRegistry& solvers)
+    : Optimizer(graph, solvers, Options{}) {}
+
+Optimizer::~Optimizer() = default;
+
+double Optimizer::chi2() { return impl_->evalChi2(graph_); }
+
+Summary Optimizer::optimize() {
+  const auto t_start = Clock::now();
+  Impl& im = *impl_;
+  Summary summary;
+  summary.algorithm = options_.algorithm;
+  summary.linear_solver = options_.linear_solver;
+  if (im.solver_name != options_.linear_solver) {
+    im.solver = solvers_.create(options_.linear_solver);
+    im.solver_name = options_.linear_solver;
+    im.analyzed = false;
+  }
+
+  // Gauge: with nothing fixed and no unary edge, the whole graph can move freely.
+  std::vector<Vertex*> gauge_fixed;
+  if (options_.fix_gauge && graph_.numVertices() > 0) {
+    const bool any_fixed = std::any_of(graph_.vertices().begin(), graph_.vertices().end(),
+                                       [](const auto& kv) { return kv.second->fixed(); });
+    const bool any_unary = std::any_of(graph_.edges().begin(), graph_.edges().end(),
+                                       [](const auto& e) { return e->numVertices() == 1; });
+    if (!any_fixed && !any_unary) {
+      for (const auto& [id, v] : graph_.vertices()) {
+        if (v->edges().empty()) continue;
+        v->setFixed(true);
+        gauge_fixed.push_back(v.get());
+        summary.gauge_fixed.push_back(id);
+        log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
+                                 std::to_string(id) + " (the lowest id) to remove the gauge freedom");
+        break;
+      }
+    }
+  }
+  struct RestoreGauge {
+    std::vector<Vertex*>& vs;
+    ~RestoreGauge() {
+      for (Vertex* v : vs) v->setFixed(false);
+    }
+  } restore_gauge{gauge_fixed};
+
+  TimeSplit setup;
+  auto t0 = Clock::now();
+  if (im.structure.stale(graph_) || !im.analyzed) {
+    im.structure.build(graph_);
+    im.analyzed = false;
+  }
+  summary.num_vertices = im.structure.activeVertices().size();
+  summary.num_edges = graph_.numEdges();
+  summary.system_dimension = im.structure.dimension();
+  summary.hessian_nonzeros = im.structure.nonZeros();
+
+  // Anchors: components of free vertices touched by a unary edge or an edge to a fixed
+  // vertex are determined; the others float.
+  {
+    const auto& active = im.structure.activeVertices();
+    std::unordered_map<const Vertex*, int> index;
+    for (std::size_t i = 0; i < active.size(); ++i) index.emplace(active[i], static_cast<int>(i));
+    UnionFind uf(active.size());
+    std::vector<char> anchored(active.size(), 0);
+    std::vector<int> slots;
+    for (Edge* e : im.structure.activeEdges()) {
+      slots.clear();
+      for (std::size_t s = 0; s < e->numVertices(); ++s) {
+        if (e->vertex(s)->hessianIndex() >= 0) slots.push_back(index.at(e->vertex(s)));
+      }
+      for (std::size_t k = 1; k < slots.size(); ++k) uf.unite(slots[0], slots[k]);
+      if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;
+    }
+    std::vector<char> root_anchored(active.size(), 0);
+    for (std::size_t i = 0; i < active.size(); ++i) {
+      if (anchored[i]) root_anchored[uf.find(static_cast<int>(i))] = 1;
+    }
+    std::unordered_map<int, std::size_t> group_of_root;
+    for (std::size_t i = 0; i < active.size(); ++i) {
+      const int root = uf.find(static_cast<int>(i));
+      if (root_anchored[root]) continue;
+      auto [it, inserted] = group_of_root.emplace(root, summary.unanchored.size());
+      if (inserted) summary.unanchored.emplace_back();
+      auto& group = summary.unanchored[it->second];
+      if (group.size() < 20) group.push_back(active[i]->id());
+    }
+    for (const auto& group : summary.unanchored) {
+      std::string ids;
+      for (VertexId id : group) ids += " " + std::to_string(id);
+      log(LogLevel::kWarning, "vertices with no anchor (no fixed vertex, no prior) — their "
+                              "position is undetermined:" + ids);
+    }
+  }
+
+  summary.initial_chi2 = im.evalChi2(graph_);
+  summary.final_chi2 = summary.initial_chi2;
+  if (im.structure.dimension() == 0) {
+    summary.status = TerminationStatus::kConverged;
+    summary.message = "no free vertex with an edge: nothing to optimise";
+    summary.total_time = seconds(t_start, Clock::now());
+    return summary;
+  }
+  if (!std::isfinite(summary.initial_chi2)) {
+    summary.status = TerminationStatus::kNumericalFailure;
+    summary.message = "initial chi2 is not finite";
+    summary.total_time = seconds(t_start, Clock::now());
+    return summary;
+  }
+  if (!im.analyzed) {
+    const LinearSolverResult r = im.solver->analyze(im.structure.sparseStructure());
+    if (!r.ok()) {
+      summary.status = TerminationStatus::kNumericalFailure;
+      summary.message = "symbolic analysis failed: " + r.message;
+      summary.total_time = seconds(t_start, Clock::now());
+      return summary;
+    }
+    im.analyzed = true;
+  }
+  setup.build += seconds(t0, Clock::now());
+  summary.time += setup;
+
+  const int n = im.structure.dimension();
+  im.rhs.resize(static_cast<std::size_t>(n));
+  im.dx.resize(static_cast<std::size_t>(n));
+  double chi2 = summary.initial_chi2;
+  double lambda = -1.0;
+  double nu = 2.0;
+  const bool lm = options_.algorithm == Algorithm::kLevenbergMarquardt;
+  summary.status = TerminationStatus::kMaxIterations;
+
+  auto failure_message = [&](const LinearSolverResult& r) {
+    std::string msg = std::string("linear solver: ") + toString(r.status);
+    if (!r.message.empty()) msg += ": " + r.message;
+    const VertexId v = im.structure.vertexOfColumn(r.column);
+    if (v >= 0) msg += " (at vertex " + std::to_string(v) + ")";
+    if (!summary.unanchored.empty()) {
+      msg += "; vertices without anchor start with " + std::to_string(summary.unanchored[0][0]);
+    }
+    return msg;
+  };
+
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    IterationStats st;
+    st.iteration = it;
+    auto ta = Clock::now();
+    for (Edge* e : im.structure.activeEdges()) e->linearizeOplus();
+    auto tb = Clock::now();
+    st.time.linearize = seconds(ta, tb);
+    im.structure.assemble(im.values, im.gradient);
+    for (int i = 0; i < n; ++i) im.rhs[i] = -im.gradient[i];
+    auto tc = Clock::now();
+    st.time.build = seconds(tb, tc);
+
+    const auto& diag = im.structure.diagonalPositions();
+    if (lm) {
+      im.saved_diag.resize(static_cast<std::size_t>(n));
+      double max_diag = 0.0;
+      for (int i = 0; i < n; ++i) {
+        im.saved_diag[i] = im.values[diag[i]];
+        max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
+      }
+      if (lambda < 0) lambda = options_.initial_lambda_factor * std::max(max_diag, 1e-12);
+    }
+
+    bool accepted = false;
+    bool stop = false;
+    double new_chi2 = chi2;
+    int attempts = 0;
+    while (true) {
+      ++attempts;
+      if (lm) {
+        for (int i = 0; i < n; ++i) im.values[diag[i]] = im.saved_diag[i] + lambda;
+      }
+      auto tf0 = Clock::now();
+      LinearSolverResult r = im.solver->factorize(im.values.data());
+      auto tf1 = Clock::now();
+      st.time.factorize += seconds(tf0, tf1);
+      if (r.ok()) {
+        r = im.solver->solve(im.rhs.data(), im.dx.data());
+      }
+      if (!r.ok()) {
+        st.time.solve += seconds(tf1, Clock::now());
+        if (lm && attempts <= options_.max_rejections) {
+          lambda *= nu;
+          nu *= 2.0;
+          continue;
+        }
+        summary.status = TerminationStatus::kNumericalFailure;
+        summary.message = failure_message(r);
+        stop = true;
+        break;
+      }
+      im.applyUpdate();
+      new_chi2 = im.evalChi2(graph_);
+      st.time.solve += seconds(tf1, Clock::now());
+      if (!lm) {
+        if (!std::isfinite(new_chi2)) {
+          im.undoUpdate();
+          im.evalChi2(graph_);
+          summary.status = TerminationStatus::kNumericalFailure;
+          summary.message = "chi2 is not finite after the update";
+          stop = true;
+          break;
+        }
+        accepted = true;
+        break;
+      }
+      double dx2 = 0.0;
+      double bdx = 0.0;
+      for (int i = 0; i < n; ++i) {
+        dx2 += im.dx[i] * im.dx[i];
+        bdx += im.gradient[i] * im.dx[i];
+      }
+      const double predicted = lambda * dx2 - bdx;
+      const double rho = (chi2 - new_chi2) / predicted;
+      if (std::isfinite(new_chi2) && predicted > 0 && rho > 0) {
+        const double a = 2.0 * rho - 1.0;
+        lambda *= std::max(1.0 / 3.0, 1.0 - a * a * a);
+        nu = 2.0;
+        accepted = true;
+        break;
+      }
+      im.undoUpdate();
+      if (!(predicted > options_.function_tolerance * chi2)) {
+        // The model promises no meaningful decrease: we are at a minimum.
+        summary.status = TerminationStatus::kConverged;
+        summary.message = "no further decrease possible";
+        stop = true;
+        break;
+      }
+      if (attempts > options_.max_rejections) {
+        summary.status = TerminationStatus::kNoProgress;
+        summary.message = "no decreasing step after " + std::to_string(attempts) + " attempts";
+        stop = true;
+        break;
+      }
+      lambda *= nu;
+      nu *= 2.0;
+    }
+    if (!accepted) new_chi2 = im.evalChi2(graph_);  // errors at the restored estimate
+
+    double step = 0.0;
+    if (accepted) {
+      for (int i = 0; i < n; ++i) step = std::max(step, std::abs(im.dx[i]));
+    }
+    st.chi2 = new_chi2;
+    st.lambda = lm ? lambda : 0.0;
+    st.step_norm = step;
+    st.attempts = attempts;
+    st.accepted = accepted;
+    st.elapsed = seconds(t_start, Clock::now());
+    summary.time += st.time;
+    summary.per_iteration.push_back(st);
+    summary.iterations = it;
+    const double old_chi2 = chi2;
+    chi2 = new_chi2;
+    if (options_.callback) options_.callback(st);
+    if (stop) break;
+    if (std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2 ||
+        step < options_.step_tolerance) {
+      summary.status = TerminationStatus::kConverged;
+      break;
+    }
+  }
+  summary.final_chi2 = chi2;
+  summary.factor_nonzeros = im.solver->factorNonZeros();
+  summary.total_time = seconds(t_start, Clock::now());
+  return summary;
+}
+
+}  // namespace graphslam

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+#include <cholmod.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "block_ordering.h"
+#include "graphslam/solvers/register.h"
+
+namespace graphslam::solvers {
+
+namespace {
+
+/// CHOLMOD Cholesky (supernodal or simplicial LL^T) with a block AMD ordering given to
+/// CHOLMOD. H is passed without copying: the cholmod_sparse header points at the
+/// optimizer's CSC arrays (upper triangle, stype = 1).
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver(std::string name, bool supernodal) : name_(std::move(name)), supernodal_(supernodal) {
+    cholmod_start(&common_);
+    common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_GIVEN;
+    common_.postorder = 1;
+    common_.quick_return_if_not_posdef = 1;
+    common_.print = 0;
+    common_.error_handler = nullptr;
+  }
+  ~CholmodSolver() override {
+    freeFactor();
+    freeDense();
+    cholmod_finish(&common_);
+  }
+
+  std::string name() const override { return name_; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    freeFactor();
+    freeDense();
+    n_ = s.n;
+    std::memset(&a_, 0, sizeof(a_));
+    a_.nrow = static_cast<size_t>(s.n);
+    a_.ncol = static_cast<size_t>(s.n);
+    a_.nzmax = s.nnz();
+    a_.p = const_cast<int*>(s.col_ptr);  // CHOLMOD reads the pattern, never writes it
+    a_.i = const_cast<int*>(s.row_idx);
+    a_.stype = 1;
+    a_.itype = CHOLMOD_INT;
+    a_.xtype = CHOLMOD_PATTERN;
+    a_.dtype = CHOLMOD_DOUBLE;
+    a_.sorted = 1;
+    a_.packed = 1;
+    perm_ = detail::blockAmdOrdering(s);
+    factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
+    if (!factor_ || common_.status < CHOLMOD_OK) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "cholmod_analyze failed (status " +
+                                             std::to_string(common_.status) + ")");
+    }
+    b_ = cholmod_allocate_dense(a_.nrow, 1, a_.nrow, CHOLMOD_REAL, &common_);
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* values) override {
+    if (!factor_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    a_.xtype = CHOLMOD_REAL;
+    a_.x = const_cast<double*>(values);  // read only
+    const int ok = cholmod_factorize(&a_, factor_, &common_);
+    a_.x = nullptr;
+    a_.xtype = CHOLMOD_PATTERN;
+    if (common_.status == CHOLMOD_NOT_POSDEF ||
+        (factor_->minor < factor_->n && common_.status >= CHOLMOD_OK)) {
+      const std::size_t minor = factor_->minor;
+      const int col = minor < factor_->n ? static_cast<const int*>(factor_->Perm)[minor] : -1;
+      return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                         "matrix is not positive definite", col);
+    }
+    if (!ok || common_.status < CHOLMOD_OK) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "cholmod_factorize failed (status " +
+                                             std::to_string(common_.status) + ")");
+    }
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    if (!factor_ || !b_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
+    std::memcpy(b_->x, rhs, sizeof(double) * static_cast<std::size_t>(n_));
+    const int ok = cholmod_solve2(CHOLMOD_A, factor_, b_, nullptr, &x_, nullptr, &y_, &e_, &common_);
+    if (!ok || !x_) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "cholmod_solve failed");
+    }
+    const double* sol = static_cast<const double*>(x_->x);
+    for (int i = 0; i < n_; ++i) {
+      if (!std::isfinite(sol[i])) {
+        return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
+      }
+      x[i] = sol[i];
+    }
+    return LinearSolverResult::success();
+  }
+
+  std::size_t factorNonZeros() const override {
+    if (!factor_) return 0;
+    if (factor_->is_super) {
+      // Sum of the lower-trapezoidal parts of every supernode.
+      const auto* super = static_cast<const int*>(factor_->super);
+      const auto* pi = static_cast<const int*>(factor_->pi);
+      std::size_t nnz = 0;
+      for (std::size_t s = 0; s < factor_->nsuper; ++s) {
+        const std::size_t ncols = static_cast<std::size_t>(super[s + 1] - super[s]);
+        const std::size_t nrows = static_cast<std::size_t>(pi[s + 1] - pi[s]);
+        nnz += ncols * nrows - ncols * (ncols - 1) / 2;
+      }
+      return nnz;
+    }
+    const auto* colcount = static_cast<const int*>(factor_->ColCount);
+    std::size_t nnz = 0;
+    for (std::size_t j = 0; j < factor_->n; ++j) nnz += static_cast<std::size_t>(colcount[j]);
+    return nnz;
+  }
+
+ private:
+  void freeFactor() {
+    if (factor_) cholmod_free_factor(&factor_, &common_);
+  }
+  void freeDense() {
+    if (b_) cholmod_free_dense(&b_, &common_);
+    if (x_) cholmod_free_dense(&x_, &common_);
+    if (y_) cholmod_free_dense(&y_, &common_);
+    if (e_) cholmod_free_dense(&e_, &common_);
+  }
+
+  std::string name_;
+  bool supernodal_;
+  cholmod_common common_{};
+  cholmod_sparse a_{};
+  cholmod_factor* factor_ = nullptr;
+  cholmod_dense* b_ = nullptr;
+  cholmod_dense* x_ = nullptr;
+  cholmod_dense* y_ = nullptr;
+  cholmod_dense* e_ = nullptr;
+  std::vector<int> perm_;
+  int n_ = 0;
+};
+
+}  // namespace
+
+bool haveCholmod() { return true; }
+
+void registerCholmodSolvers(SolverRegistry& registry) {
+  registry.registerSolver("cholmod", "CHOLMOD supernodal Cholesky, block AMD ordering",
+                          [] { return std::make_unique<CholmodSolver>("cholmod", true); });
+  registry.registerSolver("cholmod-simplicial", "CHOLMOD simplicial Cholesky, block AMD ordering",
+                          [] { return std::make_unique<CholmodSolver>("cholmod-simplicial", false); });
+}
+
+}  // namespace graphslam::solvers

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+
+#include "graphslam/core/base_vertex.h"
+
+namespace graphslam::types_slam2d {
+
+/// 2D point (landmark or point robot position) in the world frame — `.g2o` tag VERTEX_XY.
+/// Update: p (+) d = p + d.
+class VertexXY final : public BaseVertex<2, Eigen::Vector2d> {
+ public:
+  VertexXY() { setEstimate(Eigen::Vector2d::Zero()); }
+  [[nodiscard]] Eigen::Vector2d plus(const Eigen::Vector2d& x, const TangentVector& d) const override {
+    return x + d;
+  }
+};
+
+}  // namespace graphslam::types_slam2d

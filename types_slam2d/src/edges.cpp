@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_xy.h"
+
+namespace graphslam::types_slam2d {
+
+namespace {
+/// d(R(theta)^T)/d(theta).
+Eigen::Matrix2d dRotationTransposed(double theta) {
+  const double c = std::cos(theta);
+  const double s = std::sin(theta);
+  Eigen::Matrix2d d;
+  d << -s, c, -c, -s;
+  return d;
+}
+}  // namespace
+
+void EdgeSE2::linearizeOplus() {
+  const SE2& xi = vertexXi<0>().estimate();
+  const SE2& xj = vertexXi<1>().estimate();
+  const Eigen::Matrix2d rzt = measurement().rotation().transpose();
+  const Eigen::Matrix2d rit = xi.rotation().transpose();
+  const Eigen::Vector2d dt = xj.translation() - xi.translation();
+  auto& ji = jacobian<0>();
+  auto& jj = jacobian<1>();
+  ji.setZero();
+  jj.setZero();
+  ji.topLeftCorner<2, 2>() = -rzt * rit;
+  ji.block<2, 1>(0, 2) = rzt * dRotationTransposed(xi.angle()) * dt;
+  ji(2, 2) = -1.0;
+  jj.topLeftCorner<2, 2>() = rzt * rit;
+  jj(2, 2) = 1.0;
+}
+
+void EdgeSE2XY::linearizeOplus() {
+  const SE2& x = vertexXi<0>().estimate();
+  const Eigen::Vector2d& l = vertexXi<1>().estimate();
+  const Eigen::Matrix2d rt = x.rotation().transpose();
+  auto& jx = jacobian<0>();
+  jx.leftCols<2>() = -rt;
+  jx.col(2) = dRotationTransposed(x.angle()) * (l - x.translation());
+  jacobian<1>() = rt;
+}
+
+void EdgePriorSE2::linearizeOplus() {
+  auto& j = jacobian<0>();
+  j.setZero();
+  j.topLeftCorner<2, 2>() = measurement().rotation().transpose();
+  j(2, 2) = 1.0;
+}
+
+}  // namespace graphslam::types_slam2d

@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/types_slam2d/register.h"
+
+#include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+namespace graphslam::types_slam2d {
+
+void registerTypes(TypeRegistry& registry) {
+  registry.setOrigin("types_slam2d");
+  registry.registerVertex<VertexSE2>("VERTEX_SE2");
+  registry.registerVertex<VertexXY>("VERTEX_XY");
+  registry.registerEdge<EdgeSE2>("EDGE_SE2");
+  registry.registerEdge<EdgeSE2XY>("EDGE_SE2_XY");
+  registry.registerEdge<EdgePriorSE2>("EDGE_PRIOR_SE2");
+  registry.setOrigin("");
+}
+
+}  // namespace graphslam::types_slam2d
