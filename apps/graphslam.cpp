@@ -35,9 +35,11 @@ struct UsageError : std::runtime_error {
 };
 
 struct Registries {
+  // Declared first so it is destroyed last: the registries hold factories whose code
+  // lives in the plugin libraries, and graphs built from them are destroyed before these.
+  std::vector<std::unique_ptr<Plugin>> plugins;
   TypeRegistry types;
   SolverRegistry solvers;
-  std::vector<std::unique_ptr<Plugin>> plugins;  // outlive every graph built from them
 };
 
 void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
@@ -81,6 +83,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
   std::string input, output, algorithm = "lm", solver = "cholmod", stats_file;
   int iterations = 100;
   std::vector<std::string> plugins;
+  std::string damping;
+  Optimizer::Options options;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")
       ("input", po::value(&input), "input .g2o file")
@@ -90,7 +94,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
       ("solver", po::value(&solver)->default_value("cholmod"), "linear solver (see graphslam list-solvers)")
       ("plugin", po::value(&plugins)->composing(), "load types/solvers from this shared library (repeatable)")
       ("stats", po::value(&stats_file), "write per-iteration statistics as CSV")
-      ("quiet,q", "print only the summary");
+      ("quiet,q", "print only the summary")
+      ("lambda-init", po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor), "LM initial damping factor")
+      ("lambda-decrease", po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease), "LM: largest shrink of lambda after a good step (factor)")
+      ("damping", po::value(&damping)->default_value("identity"), "LM damping: identity (lambda I) or diagonal (lambda diag(H))");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
@@ -99,7 +106,13 @@ int cmdOptimize(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
-  Optimizer::Options options;
+  if (damping == "identity") {
+    options.damping = Optimizer::Options::Damping::kIdentity;
+  } else if (damping == "diagonal") {
+    options.damping = Optimizer::Options::Damping::kDiagonal;
+  } else {
+    throw UsageError("--damping must be identity or diagonal, not '" + damping + "'");
+  }
   if (algorithm == "gn") {
     options.algorithm = Algorithm::kGaussNewton;
   } else if (algorithm == "lm") {

@@ -95,6 +95,7 @@ struct Optimizer::Impl {
   std::vector<double> rhs;
   std::vector<double> dx;
   std::vector<double> saved_diag;
+  std::vector<double> damping_diag;
 
   double evalChi2(Graph& graph) {
     double sum = 0.0;
@@ -283,7 +284,16 @@ Summary Optimizer::optimize() {
         im.saved_diag[i] = im.values[diag[i]];
         max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
       }
-      if (lambda < 0) lambda = options_.initial_lambda_factor * std::max(max_diag, 1e-12);
+      if (lambda < 0) {
+        lambda = options_.initial_lambda_factor *
+                 (options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0);
+      }
+      if (options_.damping == Options::Damping::kDiagonal) {
+        im.damping_diag.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) im.damping_diag[i] = std::clamp(im.saved_diag[i], 1e-6, 1e32);
+      } else {
+        im.damping_diag.assign(static_cast<std::size_t>(n), 1.0);
+      }
     }
 
     bool accepted = false;
@@ -293,7 +303,7 @@ Summary Optimizer::optimize() {
     while (true) {
       ++attempts;
       if (lm) {
-        for (int i = 0; i < n; ++i) im.values[diag[i]] = im.saved_diag[i] + lambda;
+        for (int i = 0; i < n; ++i) im.values[diag[i]] = im.saved_diag[i] + lambda * im.damping_diag[i];
       }
       auto tf0 = Clock::now();
       LinearSolverResult r = im.solver->factorize(im.values.data());
@@ -332,14 +342,14 @@ Summary Optimizer::optimize() {
       double dx2 = 0.0;
       double bdx = 0.0;
       for (int i = 0; i < n; ++i) {
-        dx2 += im.dx[i] * im.dx[i];
+        dx2 += im.dx[i] * im.dx[i] * (lm ? im.damping_diag[i] : 1.0);
         bdx += im.gradient[i] * im.dx[i];
       }
       const double predicted = lambda * dx2 - bdx;
       const double rho = (chi2 - new_chi2) / predicted;
       if (std::isfinite(new_chi2) && predicted > 0 && rho > 0) {
         const double a = 2.0 * rho - 1.0;
-        lambda *= std::max(1.0 / 3.0, 1.0 - a * a * a);
+        lambda *= std::max(options_.min_lambda_decrease, 1.0 - a * a * a);
         nu = 2.0;
         accepted = true;
         break;

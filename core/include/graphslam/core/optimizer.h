@@ -92,8 +92,14 @@ class Optimizer {
     double function_tolerance = 1e-10;
     /// Converged when the max-norm of the update is below this.
     double step_tolerance = 1e-12;
-    /// LM: initial damping = initial_lambda_factor * max diagonal entry of H.
+    /// LM damping term: lambda * I (g2o) or lambda * diag(H) (Marquardt, scale-invariant).
+    enum class Damping { kIdentity, kDiagonal };
+    Damping damping = Damping::kIdentity;
+    /// LM: initial lambda = initial_lambda_factor * max diagonal entry of H (identity
+    /// damping) or initial_lambda_factor itself (diagonal damping).
     double initial_lambda_factor = 1e-5;
+    /// LM: smallest factor lambda may shrink by after a good step (Nielsen uses 1/3).
+    double min_lambda_decrease = 1.0 / 3.0;
     /// LM: retries (factorisations with larger damping) before giving up.
     int max_rejections = 10;
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored

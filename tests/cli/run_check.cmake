@@ -1,0 +1,23 @@
+# SPDX-License-Identifier: MIT
+# Runs CMD (a ;-list) and checks its exit code, its output and optionally that a file was
+# not created:  cmake -DCMD=... -DEXPECT_EXIT=N -DEXPECT_REGEX=... [-DNO_FILE=path] -P run_check.cmake
+if(DEFINED NO_FILE)
+  file(REMOVE "${NO_FILE}")
+endif()
+execute_process(COMMAND ${CMD} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL EXPECT_EXIT)
+  message(FATAL_ERROR "exit code ${rc}, expected ${EXPECT_EXIT}")
+endif()
+if(DEFINED EXPECT_REGEX AND NOT "${out}${err}" MATCHES "${EXPECT_REGEX}")
+  message(FATAL_ERROR "output does not match '${EXPECT_REGEX}'")
+endif()
+if(DEFINED NO_FILE)
+  if(EXISTS "${NO_FILE}")
+    message(FATAL_ERROR "${NO_FILE} was created")
+  endif()
+  file(GLOB leftovers "${NO_FILE}.tmp.*")
+  if(leftovers)
+    message(FATAL_ERROR "temporary files left behind: ${leftovers}")
+  endif()
+endif()

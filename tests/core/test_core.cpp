@@ -1,0 +1,437 @@
+// SPDX-License-Identifier: MIT
+// Graph, registries, edge bases (fixed, g2o-style, multi), .g2o I/O and the optimizer.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "../common/test_util.h"
+#include "graphslam/core/base_multi_edge.h"
+#include "graphslam/core/error.h"
+#include "graphslam/core/file_util.h"
+#include "graphslam/core/fixed_edge.h"
+#include "graphslam/core/io_g2o.h"
+#include "graphslam/core/logging.h"
+#include "graphslam/core/optimizer.h"
+#include "graphslam/solvers/register.h"
+#include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/register.h"
+#include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+using namespace graphslam;
+using types_slam2d::EdgeSE2;
+using types_slam2d::SE2;
+using types_slam2d::VertexSE2;
+using types_slam2d::VertexXY;
+
+namespace {
+
+/// Linear displacement between two points: e = (b - a) - z. Numeric Jacobian (no
+/// linearizeOplus), exercising the FixedEdge default on copies.
+class EdgeDisplacement final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
+ public:
+  ErrorVector evaluate(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const override {
+    return (b - a) - measurement();
+  }
+};
+
+/// The same, written g2o style: overrides computeError() only.
+class EdgeDisplacementG2oStyle final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
+ public:
+  void computeError() override {
+    mutableError() = (vertexXi<1>().estimate() - vertexXi<0>().estimate()) - measurement();
+  }
+};
+
+/// Absolute position of one point: e = p - z.
+class EdgePointPrior final : public BaseUnaryEdge<2, Eigen::Vector2d, VertexXY> {
+ public:
+  ErrorVector evaluate(const Eigen::Vector2d& p) const override { return p - measurement(); }
+};
+
+/// Dynamic arity: the centroid of any number of points equals z.
+class EdgeCentroid final : public BaseMultiEdge<2, Eigen::Vector2d> {
+ public:
+  void computeError() override {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < numVertices(); ++i) {
+      sum += static_cast<const VertexXY*>(vertex(i))->estimate();
+    }
+    mutableError() = sum / static_cast<double>(numVertices()) - measurement();
+  }
+};
+
+/// A type that forgot both hooks.
+class EdgeBroken final : public BaseUnaryEdge<2, Eigen::Vector2d, VertexXY> {};
+
+SolverRegistry allSolvers() {
+  SolverRegistry s;
+  solvers::registerSolvers(s);
+  return s;
+}
+
+VertexXY& addPoint(Graph& g, VertexId id, const Eigen::Vector2d& p) {
+  auto v = std::make_unique<VertexXY>();
+  v->setId(id);
+  v->setEstimate(p);
+  return static_cast<VertexXY&>(g.addVertex(std::move(v)));
+}
+
+template <typename E>
+E& addDisplacement(Graph& g, VertexId a, VertexId b, const Eigen::Vector2d& z, double w = 1.0) {
+  auto e = std::make_unique<E>();
+  e->setVertexIds({a, b});
+  e->setMeasurement(z);
+  e->setInformation(Eigen::Matrix2d::Identity() * w);
+  return static_cast<E&>(g.addEdge(std::move(e)));
+}
+
+// --------------------------------------------------------------------------- Graph
+
+TEST(Core_Graph, AddRemoveAndIncidence) {
+  Graph g;
+  addPoint(g, 1, {0, 0});
+  addPoint(g, 2, {1, 0});
+  addPoint(g, 3, {2, 0});
+  EXPECT_THROW(addPoint(g, 2, {0, 0}), Error);
+  auto& e12 = addDisplacement<EdgeDisplacement>(g, 1, 2, {1, 0});
+  addDisplacement<EdgeDisplacement>(g, 2, 3, {1, 0});
+  EXPECT_EQ(g.vertex(2)->edges().size(), 2u);
+  EXPECT_THROW(addDisplacement<EdgeDisplacement>(g, 1, 9, {1, 0}), Error);  // missing vertex
+  EXPECT_THROW(addDisplacement<EdgeDisplacement>(g, 1, 1, {1, 0}), Error);  // same vertex twice
+  const auto version = g.structureVersion();
+  EXPECT_TRUE(g.removeEdge(&e12));
+  EXPECT_NE(g.structureVersion(), version);
+  EXPECT_EQ(g.vertex(2)->edges().size(), 1u);
+  EXPECT_TRUE(g.removeVertex(3));
+  EXPECT_EQ(g.numEdges(), 0u);
+  EXPECT_TRUE(g.vertex(2)->edges().empty());
+  EXPECT_FALSE(g.removeVertex(3));
+}
+
+TEST(Core_Graph, WrongVertexTypeIsRejected) {
+  Graph g;
+  addPoint(g, 0, {0, 0});
+  auto pose = std::make_unique<VertexSE2>();
+  pose->setId(1);
+  g.addVertex(std::move(pose));
+  EXPECT_THROW(addDisplacement<EdgeDisplacement>(g, 0, 1, {1, 0}), Error);
+}
+
+// --------------------------------------------------------------------------- Registry
+
+TEST(Core_Registry, RejectsDuplicatesWhitespaceAndUnknown) {
+  TypeRegistry types;
+  types.registerVertex<VertexXY>("VERTEX_XY");
+  EXPECT_THROW(types.registerVertex<VertexXY>("VERTEX_XY"), RegistryError);
+  EXPECT_THROW(types.registerVertex<VertexSE2>("VERTEX SE2"), RegistryError);
+  EXPECT_THROW(types.registerVertex<VertexSE2>(""), RegistryError);
+  EXPECT_THROW(types.registerVertex<VertexXY>("OTHER_NAME"), RegistryError);  // type twice
+  EXPECT_THROW((void)types.createEdge("VERTEX_XY"), RegistryError);
+  EXPECT_THROW((void)types.createVertex("NOPE"), RegistryError);
+  auto v = types.createVertex("VERTEX_XY");
+  ASSERT_NE(types.tagOf(*v), nullptr);
+  EXPECT_EQ(*types.tagOf(*v), "VERTEX_XY");
+
+  SolverRegistry solvers;
+  solvers::registerSolvers(solvers);
+  EXPECT_THROW(solvers::registerSolvers(solvers), RegistryError);
+  EXPECT_THROW((void)solvers.create("no-such-solver"), RegistryError);
+  EXPECT_THROW(solvers.registerSolver("x", "", nullptr), RegistryError);
+}
+
+// --------------------------------------------------------------------------- Edge bases
+
+TEST(Core_Edge, NumericDefaultsAgreeForAllThreeStyles) {
+  Graph g;
+  addPoint(g, 0, {0.3, -1.2});
+  addPoint(g, 1, {2.0, 0.7});
+  addPoint(g, 2, {-1.0, 4.0});
+  auto& a = addDisplacement<EdgeDisplacement>(g, 0, 1, {1, 1});
+  auto& b = addDisplacement<EdgeDisplacementG2oStyle>(g, 0, 1, {1, 1});
+  auto c = std::make_unique<EdgeCentroid>();
+  c->setVertexIds({0, 1, 2});
+  c->setMeasurement({0.5, 0.5});
+  auto& centroid = static_cast<EdgeCentroid&>(g.addEdge(std::move(c)));
+  for (Edge* e : std::vector<Edge*>{&a, &b}) {
+    e->computeError();
+    e->linearizeOplus();
+    const Eigen::Map<const Eigen::Matrix2d> j0(e->jacobianData(0)), j1(e->jacobianData(1));
+    EXPECT_TRUE(j0.isApprox(-Eigen::Matrix2d::Identity(), 1e-8));
+    EXPECT_TRUE(j1.isApprox(Eigen::Matrix2d::Identity(), 1e-8));
+  }
+  EXPECT_TRUE(a.error().isApprox(b.error()));
+  centroid.computeError();
+  centroid.linearizeOplus();
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_TRUE(centroid.jacobian(s).isApprox(Eigen::Matrix2d::Identity() / 3.0, 1e-8)) << s;
+  }
+  // A vertex's estimate is untouched by numeric differentiation.
+  EXPECT_EQ(static_cast<VertexXY*>(g.vertex(0))->estimate(), Eigen::Vector2d(0.3, -1.2));
+}
+
+TEST(Core_Edge, MissingHooksAreReported) {
+  Graph g;
+  addPoint(g, 0, {0, 0});
+  auto e = std::make_unique<EdgeBroken>();
+  e->setVertexIds({0});
+  auto& edge = g.addEdge(std::move(e));
+  EXPECT_THROW(edge.computeError(), Error);
+}
+
+// --------------------------------------------------------------------------- I/O
+
+TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  const std::string header = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
+  struct Case {
+    std::string body;
+    int line;
+    std::string fragment;
+  };
+  const std::vector<Case> cases = {
+      {"EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n", 3, "EDGE_SE2 expects 11 numbers after the tag, found 10"},
+      {"EDGE_SE2 0 1 1 0 zero 1 0 0 1 0 1\n", 3, "'zero' is not a number"},
+      {"EDGE_SE2 0 1 1 0 nan 1 0 0 1 0 1\n", 3, "is not finite"},
+      {"# comment\nEDGE_FOO 0 1\n", 4, "unknown tag 'EDGE_FOO'"},
+      {"VERTEX_SE2 1 5 5 0\n", 3, "duplicate vertex id 1 (first defined on line 2)"},
+      {"EDGE_SE2 0 7 1 0 0 1 0 0 1 0 1\n", 3, "refers to vertex 7"},
+      {"EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n", 3, "information matrix is not positive definite"},
+      {"EDGE_SE2 0 1.5 1 0 0 1 0 0 1 0 1\n", 3, "'1.5' is not a vertex id"},
+      {"FIX 42\n", 3, "FIX: vertex 42 is not defined"},
+      {"EDGE_SE2_XY 0 1 1 0 1 0 1\n", 3, "wrong type for slot 1"},
+  };
+  for (const auto& c : cases) {
+    std::istringstream in(header + c.body);
+    auto r = io::readG2o(in, "bad.g2o", types);
+    ASSERT_FALSE(r.ok()) << c.body;
+    ASSERT_EQ(r.diagnostics.size(), 1u);
+    EXPECT_EQ(r.diagnostics[0].line, c.line) << c.body;
+    EXPECT_NE(r.diagnostics[0].str().find("bad.g2o:" + std::to_string(c.line) + ": "), std::string::npos);
+    EXPECT_NE(r.diagnostics[0].message.find(c.fragment), std::string::npos)
+        << "got: " << r.diagnostics[0].message;
+  }
+}
+
+TEST(Core_IoG2o, LenientModeSkipsAndCounts) {
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  std::istringstream in("VERTEX_SE2 0 0 0 0\nBOGUS 1\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+  io::LoadOptions opt;
+  opt.strict = false;
+  auto r = io::readG2o(in, "x.g2o", types, opt);
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.skipped_lines, 1u);
+  EXPECT_EQ(r.graph.numVertices(), 2u);
+  EXPECT_EQ(r.graph.numEdges(), 1u);
+}
+
+TEST(Core_IoG2o, FixLinesRoundTrip) {
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  std::istringstream in("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0.1\nFIX 1\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+  auto r = io::readG2o(in, "x.g2o", types);
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r.graph.vertex(1)->fixed());
+  EXPECT_FALSE(r.graph.vertex(0)->fixed());
+  std::stringstream out;
+  io::writeG2o(out, r.graph, types);
+  EXPECT_NE(out.str().find("FIX 1\n"), std::string::npos);
+  auto back = io::readG2o(out, "y.g2o", types);
+  ASSERT_TRUE(back.ok());
+  EXPECT_TRUE(back.graph.vertex(1)->fixed());
+}
+
+TEST(Core_IoG2o, AtomicWriteLeavesNoPartialFile) {
+  const std::string path = ::testing::TempDir() + "atomic_out.g2o";
+  std::remove(path.c_str());
+  EXPECT_THROW(writeFileAtomically(path, [](std::ostream& out) {
+                 out << "half a line";
+                 throw Error("simulated failure");
+               }),
+               Error);
+  EXPECT_FALSE(test::fileExists(path));
+  writeFileAtomically(path, [](std::ostream& out) { out << "ok\n"; });
+  EXPECT_TRUE(test::fileExists(path));
+  // An existing file survives a failed rewrite unchanged.
+  EXPECT_THROW(writeFileAtomically(path, [](std::ostream&) { throw Error("again"); }), Error);
+  std::ifstream in(path);
+  std::string content;
+  std::getline(in, content);
+  EXPECT_EQ(content, "ok");
+}
+
+TEST(Core_IoG2o, MissingFileIsADiagnostic) {
+  TypeRegistry types;
+  auto r = io::loadG2o("/nonexistent/file.g2o", types);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.diagnostics[0].str().find("/nonexistent/file.g2o:0: cannot open"), std::string::npos);
+}
+
+// --------------------------------------------------------------------------- Optimizer
+
+class Core_Optimizer : public ::testing::TestWithParam<std::string> {};
+
+/// A linear problem: GN must land on the exact least-squares solution in one step.
+TEST_P(Core_Optimizer, LinearProblemSolvedExactlyInOneStep) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.1);
+  Graph g;
+  const int n = 30;
+  for (int i = 0; i < n; ++i) addPoint(g, i, {noise(rng) * 10, noise(rng) * 10});
+  auto prior = std::make_unique<EdgePointPrior>();
+  prior->setVertexIds({0});
+  prior->setMeasurement({0, 0});
+  g.addEdge(std::move(prior));
+  for (int i = 0; i + 1 < n; ++i) {
+    addDisplacement<EdgeDisplacement>(g, i, i + 1, {1 + noise(rng), noise(rng)}, 1.0 + i % 3);
+  }
+  for (int i = 0; i + 5 < n; i += 4) addDisplacement<EdgeDisplacement>(g, i, i + 5, {5 + noise(rng), noise(rng)}, 2.0);
+
+  // Dense reference: stack the whitened linear system.
+  const int dim = 2 * n;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
+  for (const auto& e : g.edges()) {
+    e->computeError();
+    e->linearizeOplus();
+    const Eigen::Map<const Eigen::Matrix2d> W(e->informationData());
+    const Eigen::Map<const Eigen::Vector2d> err(e->errorData());
+    for (std::size_t s = 0; s < e->numVertices(); ++s) {
+      const int ci = 2 * e->vertexId(s);
+      const Eigen::Map<const Eigen::Matrix2d> Ji(e->jacobianData(s));
+      b.segment<2>(ci) += Ji.transpose() * W * err;
+      for (std::size_t t = 0; t < e->numVertices(); ++t) {
+        const Eigen::Map<const Eigen::Matrix2d> Jj(e->jacobianData(t));
+        H.block<2, 2>(ci, 2 * e->vertexId(t)) += Ji.transpose() * W * Jj;
+      }
+    }
+  }
+  Eigen::VectorXd x0(dim);
+  for (int i = 0; i < n; ++i) x0.segment<2>(2 * i) = static_cast<VertexXY*>(g.vertex(i))->estimate();
+  const Eigen::VectorXd expected = x0 + H.ldlt().solve(-b);
+
+  auto solvers = allSolvers();
+  Optimizer::Options opt;
+  opt.algorithm = Algorithm::kGaussNewton;
+  opt.linear_solver = GetParam();
+  opt.max_iterations = 5;
+  Optimizer optimizer(g, solvers, opt);
+  const Summary s = optimizer.optimize();
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  EXPECT_LE(s.iterations, 2);
+  EXPECT_TRUE(s.gauge_fixed.empty());  // the prior anchors the graph
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d got = static_cast<VertexXY*>(g.vertex(i))->estimate();
+    EXPECT_NEAR((got - expected.segment<2>(2 * i)).norm(), 0.0, 1e-7) << "vertex " << i;
+  }
+}
+
+/// A noise-free SE(2) pose graph from a perturbed start converges back to the truth.
+TEST_P(Core_Optimizer, NoiseFreePoseGraphRecoversTruth) {
+  for (Algorithm algorithm : {Algorithm::kGaussNewton, Algorithm::kLevenbergMarquardt}) {
+    std::mt19937 rng(11);
+    std::normal_distribution<double> noise(0, 0.05);
+    Graph g;
+    std::vector<SE2> truth;
+    const int n = 40;
+    for (int i = 0; i < n; ++i) {
+      truth.emplace_back(std::cos(i * 0.3) * 5, std::sin(i * 0.3) * 5, i * 0.3 + 1.57);
+      auto v = std::make_unique<VertexSE2>();
+      v->setId(i);
+      v->setEstimate(i == 0 ? truth[0]
+                            : SE2(truth[i].translation().x() + noise(rng),
+                                  truth[i].translation().y() + noise(rng), truth[i].angle() + noise(rng)));
+      g.addVertex(std::move(v));
+    }
+    auto link = [&](int i, int j) {
+      auto e = std::make_unique<EdgeSE2>();
+      e->setVertexIds({i, j});
+      e->setMeasurement(truth[i].inverse() * truth[j]);
+      g.addEdge(std::move(e));
+    };
+    for (int i = 0; i + 1 < n; ++i) link(i, i + 1);
+    for (int i = 0; i + 21 < n; i += 3) link(i, i + 21);
+    auto solvers = allSolvers();
+    Optimizer::Options opt;
+    opt.algorithm = algorithm;
+    opt.linear_solver = GetParam();
+    Optimizer optimizer(g, solvers, opt);
+    const Summary s = optimizer.optimize();
+    EXPECT_EQ(s.status, TerminationStatus::kConverged) << toString(algorithm) << ": " << s.message;
+    EXPECT_LT(s.final_chi2, 1e-12);
+    ASSERT_EQ(s.gauge_fixed, std::vector<VertexId>{0});
+    EXPECT_FALSE(g.vertex(0)->fixed()) << "gauge fix must be undone after optimize()";
+    for (int i = 0; i < n; ++i) {
+      const SE2& got = static_cast<VertexSE2*>(g.vertex(i))->estimate();
+      EXPECT_NEAR((got.translation() - truth[i].translation()).norm(), 0.0, 1e-7) << i;
+      EXPECT_NEAR(types_slam2d::normalizeAngle(got.angle() - truth[i].angle()), 0.0, 1e-8) << i;
+    }
+    EXPECT_EQ(static_cast<int>(s.per_iteration.size()), s.iterations);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSolvers, Core_Optimizer,
+                         ::testing::Values("eigen-ldlt", "eigen-llt", "cholmod", "cholmod-simplicial"));
+
+TEST(Core_OptimizerDiagnostics, UnanchoredComponentAndFailureNameVertices) {
+  Graph g;
+  addPoint(g, 0, {0, 0}).setFixed(true);
+  addPoint(g, 1, {1, 0});
+  addPoint(g, 5, {5, 0});
+  addPoint(g, 6, {6, 0});
+  addDisplacement<EdgeDisplacement>(g, 0, 1, {1, 0});
+  addDisplacement<EdgeDisplacement>(g, 5, 6, {1, 0});  // floats: nothing anchors 5-6
+  auto solvers = allSolvers();
+  Optimizer::Options opt;
+  opt.algorithm = Algorithm::kGaussNewton;
+  opt.linear_solver = "cholmod";
+  std::vector<std::string> logged;
+  setLogSink([&](LogLevel, const std::string& m) { logged.push_back(m); });
+  Optimizer optimizer(g, solvers, opt);
+  const Summary s = optimizer.optimize();
+  setLogSink(nullptr);
+  ASSERT_EQ(s.unanchored.size(), 1u);
+  EXPECT_EQ(s.unanchored[0], (std::vector<VertexId>{5, 6}));
+  EXPECT_EQ(s.status, TerminationStatus::kNumericalFailure);
+  EXPECT_NE(s.message.find("vertex"), std::string::npos) << s.message;
+  ASSERT_FALSE(logged.empty());
+  EXPECT_NE(logged[0].find("5 6"), std::string::npos) << logged[0];
+}
+
+TEST(Core_OptimizerDiagnostics, CallbackAndRebuildAfterGraphChange) {
+  Graph g;
+  addPoint(g, 0, {0, 0}).setFixed(true);
+  for (int i = 1; i < 5; ++i) {
+    addPoint(g, i, {0, 0});
+    addDisplacement<EdgeDisplacement>(g, i - 1, i, {1, 0});
+  }
+  auto solvers = allSolvers();
+  Optimizer::Options opt;
+  opt.linear_solver = "eigen-ldlt";
+  int calls = 0;
+  opt.callback = [&](const IterationStats&) { ++calls; };
+  Optimizer optimizer(g, solvers, opt);
+  Summary s = optimizer.optimize();
+  EXPECT_EQ(calls, s.iterations);
+  EXPECT_NEAR(static_cast<VertexXY*>(g.vertex(4))->estimate().x(), 4.0, 1e-6);
+  // Grow the graph online and re-optimise with the same optimizer.
+  addPoint(g, 5, {0, 0});
+  addDisplacement<EdgeDisplacement>(g, 4, 5, {1, 0});
+  s = optimizer.optimize();
+  EXPECT_TRUE(s.succeeded());
+  EXPECT_NEAR(static_cast<VertexXY*>(g.vertex(5))->estimate().x(), 5.0, 1e-6);
+  g.removeVertex(5);
+  s = optimizer.optimize();
+  EXPECT_TRUE(s.succeeded());
+  EXPECT_EQ(s.system_dimension, 8);
+}
+
+}  // namespace
