@@ -16,6 +16,7 @@
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
+#include "graphslam/types_slam2d/initialization.h"
 #include "graphslam/types_slam2d/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
@@ -65,8 +66,8 @@ void printHelp(const char* usage, const po::options_description& desc) {
 // optimize
 
 constexpr const char* kOptimizeUsage =
-    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm gn|lm] [--solver NAME]\n"
-    "                          [--plugin LIB]... [--stats FILE.csv] [--quiet]\n"
+    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm] [--solver NAME]\n"
+    "                          [--init global|none] [--plugin LIB]... [--stats FILE.csv] [--quiet]\n"
     "Optimises a .g2o graph and prints one line per iteration and a summary.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).";
 
@@ -80,20 +81,21 @@ std::string csvLine(const IterationStats& s) {
 }
 
 int cmdOptimize(const std::vector<std::string>& args) {
-  std::string input, output, algorithm = "lm", solver = "cholmod", stats_file;
+  std::string input, output, algorithm, solver, stats_file;
   int iterations = 100;
   std::vector<std::string> plugins;
-  std::string damping;
+  std::string damping, init;
   Optimizer::Options options;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")
       ("input", po::value(&input), "input .g2o file")
       ("output,o", po::value(&output), "write the optimised graph here (atomically)")
       ("iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")
-      ("algorithm", po::value(&algorithm)->default_value("lm"), "gn (Gauss-Newton) or lm (Levenberg-Marquardt)")
-      ("solver", po::value(&solver)->default_value("cholmod"), "linear solver (see graphslam list-solvers)")
+      ("algorithm", po::value(&algorithm)->default_value("auto"), "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm (Levenberg-Marquardt)")
+      ("solver", po::value(&solver)->default_value("eigen-ldlt"), "linear solver (see graphslam list-solvers)")
       ("plugin", po::value(&plugins)->composing(), "load types/solvers from this shared library (repeatable)")
       ("stats", po::value(&stats_file), "write per-iteration statistics as CSV")
+      ("init", po::value(&init)->default_value("global"), "initial guess: none (the file's estimates) or global (SE(2) orientations, then positions, by linear least squares)")
       ("quiet,q", "print only the summary")
       ("lambda-init", po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor), "LM initial damping factor")
       ("lambda-decrease", po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease), "LM: largest shrink of lambda after a good step (factor)")
@@ -113,12 +115,14 @@ int cmdOptimize(const std::vector<std::string>& args) {
   } else {
     throw UsageError("--damping must be identity or diagonal, not '" + damping + "'");
   }
-  if (algorithm == "gn") {
+  if (algorithm == "auto") {
+    options.algorithm = Algorithm::kGaussNewtonFallback;
+  } else if (algorithm == "gn") {
     options.algorithm = Algorithm::kGaussNewton;
   } else if (algorithm == "lm") {
     options.algorithm = Algorithm::kLevenbergMarquardt;
   } else {
-    throw UsageError("--algorithm must be gn or lm, not '" + algorithm + "'");
+    throw UsageError("--algorithm must be auto, gn or lm, not '" + algorithm + "'");
   }
   options.max_iterations = iterations;
   options.linear_solver = solver;
@@ -145,6 +149,17 @@ int cmdOptimize(const std::vector<std::string>& args) {
     graph = std::move(loaded.graph);
   }
   std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
+  if (init == "global") {
+    const auto r = types_slam2d::initializeGlobal(graph);
+    if (!r.message.empty()) {
+      std::cout << "initialisation: " << r.message << "\n";
+    } else {
+      std::printf("initialisation: global, %zu poses and %zu landmarks placed (%zu angles unwrapped) in %.4f s\n",
+                  r.poses, r.landmarks, r.wrapped_edges, r.seconds);
+    }
+  } else if (init != "none") {
+    throw UsageError("--init must be none or global, not '" + init + "'");
+  }
 
   const bool quiet = vm.count("quiet") != 0;
   std::vector<std::string> csv;

@@ -17,6 +17,7 @@ const char* toString(Algorithm algorithm) {
   switch (algorithm) {
     case Algorithm::kGaussNewton: return "gauss-newton";
     case Algorithm::kLevenbergMarquardt: return "levenberg-marquardt";
+    case Algorithm::kGaussNewtonFallback: return "gauss-newton with lm fallback";
   }
   return "?";
 }
@@ -114,6 +115,24 @@ struct Optimizer::Impl {
   }
   void undoUpdate() {
     for (Vertex* v : structure.activeVertices()) v->pop();
+  }
+
+  /// Flat copy of the estimates of all active vertices.
+  void saveState(std::vector<double>& state) const {
+    state.clear();
+    std::vector<double> buf;
+    for (const Vertex* v : structure.activeVertices()) {
+      buf.resize(static_cast<std::size_t>(v->estimateDataDimension()));
+      v->getEstimateData(buf.data());
+      state.insert(state.end(), buf.begin(), buf.end());
+    }
+  }
+  void restoreState(const std::vector<double>& state) {
+    std::size_t k = 0;
+    for (Vertex* v : structure.activeVertices()) {
+      v->setEstimateData(state.data() + k);
+      k += static_cast<std::size_t>(v->estimateDataDimension());
+    }
   }
 };
 
@@ -248,9 +267,16 @@ Summary Optimizer::optimize() {
   im.rhs.resize(static_cast<std::size_t>(n));
   im.dx.resize(static_cast<std::size_t>(n));
   double chi2 = summary.initial_chi2;
-  double lambda = -1.0;
+  double lambda = -1.0;  // < 0: initialise from H at the next damped iteration
   double nu = 2.0;
-  const bool lm = options_.algorithm == Algorithm::kLevenbergMarquardt;
+  // kGaussNewtonFallback takes undamped steps, accepting a temporary increase of chi2
+  // (non-monotone), until `fallback_patience` steps in a row fail to beat the best chi2
+  // seen; then it returns to the best estimate and continues as Levenberg-Marquardt.
+  const bool fallback = options_.algorithm == Algorithm::kGaussNewtonFallback;
+  bool damped = options_.algorithm == Algorithm::kLevenbergMarquardt;
+  double best_chi2 = chi2;
+  int non_improving = 0;
+  std::vector<double> best_state;
   summary.status = TerminationStatus::kMaxIterations;
 
   auto failure_message = [&](const LinearSolverResult& r) {
@@ -277,7 +303,7 @@ Summary Optimizer::optimize() {
     st.time.build = seconds(tb, tc);
 
     const auto& diag = im.structure.diagonalPositions();
-    if (lm) {
+    if (damped) {
       im.saved_diag.resize(static_cast<std::size_t>(n));
       double max_diag = 0.0;
       for (int i = 0; i < n; ++i) {
@@ -287,6 +313,7 @@ Summary Optimizer::optimize() {
       if (lambda < 0) {
         lambda = options_.initial_lambda_factor *
                  (options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0);
+        nu = 2.0;
       }
       if (options_.damping == Options::Damping::kDiagonal) {
         im.damping_diag.resize(static_cast<std::size_t>(n));
@@ -294,15 +321,20 @@ Summary Optimizer::optimize() {
       } else {
         im.damping_diag.assign(static_cast<std::size_t>(n), 1.0);
       }
+    } else if (fallback && chi2 <= best_chi2) {
+      best_chi2 = chi2;
+      im.saveState(best_state);
     }
 
     bool accepted = false;
     bool stop = false;
     double new_chi2 = chi2;
     int attempts = 0;
+    double used_lambda = 0.0;
     while (true) {
       ++attempts;
-      if (lm) {
+      used_lambda = damped ? lambda : 0.0;
+      if (damped) {
         for (int i = 0; i < n; ++i) im.values[diag[i]] = im.saved_diag[i] + lambda * im.damping_diag[i];
       }
       auto tf0 = Clock::now();
@@ -314,7 +346,7 @@ Summary Optimizer::optimize() {
       }
       if (!r.ok()) {
         st.time.solve += seconds(tf1, Clock::now());
-        if (lm && attempts <= options_.max_rejections) {
+        if (damped && attempts <= options_.max_rejections) {
           lambda *= nu;
           nu *= 2.0;
           continue;
@@ -327,10 +359,10 @@ Summary Optimizer::optimize() {
       im.applyUpdate();
       new_chi2 = im.evalChi2(graph_);
       st.time.solve += seconds(tf1, Clock::now());
-      if (!lm) {
-        if (!std::isfinite(new_chi2)) {
+      if (!damped) {
+        if (!std::isfinite(new_chi2) && !fallback) {
           im.undoUpdate();
-          im.evalChi2(graph_);
+          new_chi2 = im.evalChi2(graph_);
           summary.status = TerminationStatus::kNumericalFailure;
           summary.message = "chi2 is not finite after the update";
           stop = true;
@@ -342,10 +374,10 @@ Summary Optimizer::optimize() {
       double dx2 = 0.0;
       double bdx = 0.0;
       for (int i = 0; i < n; ++i) {
-        dx2 += im.dx[i] * im.dx[i] * (lm ? im.damping_diag[i] : 1.0);
+        dx2 += im.dx[i] * im.dx[i] * im.damping_diag[i];
         bdx += im.gradient[i] * im.dx[i];
       }
-      const double predicted = lambda * dx2 - bdx;
+      const double predicted = lambda * dx2 - bdx;  // model decrease of chi2
       const double rho = (chi2 - new_chi2) / predicted;
       if (std::isfinite(new_chi2) && predicted > 0 && rho > 0) {
         const double a = 2.0 * rho - 1.0;
@@ -377,8 +409,18 @@ Summary Optimizer::optimize() {
     if (accepted) {
       for (int i = 0; i < n; ++i) step = std::max(step, std::abs(im.dx[i]));
     }
+    if (fallback && !damped && !stop) {
+      non_improving = (std::isfinite(new_chi2) && new_chi2 < best_chi2) ? 0 : non_improving + 1;
+      if (non_improving >= options_.fallback_patience || !std::isfinite(new_chi2)) {
+        im.restoreState(best_state);
+        new_chi2 = im.evalChi2(graph_);
+        damped = true;
+        lambda = -1.0;
+        step = 1.0;  // not converged: the damped phase starts now
+      }
+    }
     st.chi2 = new_chi2;
-    st.lambda = lm ? lambda : 0.0;
+    st.lambda = used_lambda;
     st.step_norm = step;
     st.attempts = attempts;
     st.accepted = accepted;
@@ -390,11 +432,16 @@ Summary Optimizer::optimize() {
     chi2 = new_chi2;
     if (options_.callback) options_.callback(st);
     if (stop) break;
-    if (std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2 ||
-        step < options_.step_tolerance) {
+    const bool small_change = std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
+    if ((small_change || step < options_.step_tolerance) && !(fallback && !damped && chi2 > best_chi2)) {
       summary.status = TerminationStatus::kConverged;
       break;
     }
+  }
+  if (fallback && !damped && !best_state.empty() && chi2 > best_chi2) {
+    // The undamped phase ended above its best point: return there.
+    im.restoreState(best_state);
+    chi2 = im.evalChi2(graph_);
   }
   summary.final_chi2 = chi2;
   summary.factor_nonzeros = im.solver->factorNonZeros();

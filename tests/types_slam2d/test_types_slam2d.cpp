@@ -220,3 +220,83 @@ TEST(TypesSlam2d_Register, AllTagsRegistered) {
 }
 
 }  // namespace
+
+#include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/types_slam2d/simulator.h"
+
+namespace {
+
+TEST(TypesSlam2d_Initialization, NoiseFreeGraphFromZeroEstimatesIsExact) {
+  // All estimates zero, as an edges-only file gives; angles wrap several times around.
+  Graph g;
+  std::vector<SE2> truth;
+  const int n = 60;
+  for (int i = 0; i < n; ++i) {
+    truth.emplace_back(3 * std::cos(0.5 * i), 3 * std::sin(0.5 * i), 0.5 * i + 1.0);
+    auto v = std::make_unique<VertexSE2>();
+    v->setId(i);
+    if (i == 0) v->setEstimate(truth[0]);
+    g.addVertex(std::move(v));
+  }
+  auto link = [&](int i, int j) {
+    auto e = std::make_unique<EdgeSE2>();
+    e->setVertexIds({i, j});
+    e->setMeasurement(truth[i].inverse() * truth[j]);
+    g.addEdge(std::move(e));
+  };
+  for (int i = 0; i + 1 < n; ++i) link(i, i + 1);
+  for (int i = 0; i + 13 < n; i += 5) link(i, i + 13);
+  auto lm = std::make_unique<VertexXY>();
+  lm->setId(100);
+  g.addVertex(std::move(lm));
+  const Eigen::Vector2d landmark(1.0, -2.0);
+  for (int i = 0; i < n; i += 7) {
+    auto e = std::make_unique<EdgeSE2XY>();
+    e->setVertexIds({i, 100});
+    e->setMeasurement(truth[i].rotation().transpose() * (landmark - truth[i].translation()));
+    g.addEdge(std::move(e));
+  }
+  const auto report = initializeGlobal(g);
+  ASSERT_TRUE(report.message.empty()) << report.message;
+  EXPECT_EQ(report.poses, static_cast<std::size_t>(n - 1));  // pose 0 holds the gauge
+  EXPECT_EQ(report.landmarks, 1u);
+  EXPECT_GT(report.wrapped_edges, 0u);
+  for (int i = 0; i < n; ++i) {
+    const SE2& got = static_cast<VertexSE2*>(g.vertex(i))->estimate();
+    EXPECT_NEAR((got.translation() - truth[i].translation()).norm(), 0.0, 1e-9) << i;
+    EXPECT_NEAR(normalizeAngle(got.angle() - truth[i].angle()), 0.0, 1e-12) << i;
+  }
+  EXPECT_NEAR((static_cast<VertexXY*>(g.vertex(100))->estimate() - landmark).norm(), 0.0, 1e-9);
+  EXPECT_LT(g.chi2(), 1e-16);
+}
+
+TEST(TypesSlam2d_Simulator, SeededAndConsistentWithTruth) {
+  ManhattanOptions o;
+  o.num_poses = 300;
+  o.num_landmarks = 20;
+  auto a = simulateManhattan(o);
+  const auto b = simulateManhattan(o);
+  EXPECT_EQ(a.graph.numEdges(), b.graph.numEdges());
+  EXPECT_GT(a.num_loop_closures, 0u);
+  EXPECT_GT(a.num_observations, 0u);
+  EXPECT_EQ(a.graph.numVertices(), 320u);
+  for (int i = 0; i < o.num_poses; ++i) {
+    EXPECT_EQ(static_cast<const VertexSE2*>(a.graph.vertex(i))->estimate().toVector(),
+              static_cast<const VertexSE2*>(b.graph.vertex(i))->estimate().toVector());
+  }
+  o.seed = 43;
+  const auto c = simulateManhattan(o);
+  EXPECT_NE(static_cast<const VertexSE2*>(c.graph.vertex(299))->estimate().toVector(),
+            static_cast<const VertexSE2*>(a.graph.vertex(299))->estimate().toVector());
+  // chi2 at the ground truth is about the number of measurement dimensions.
+  Graph& g = a.graph;
+  for (int i = 0; i < o.num_poses; ++i) static_cast<VertexSE2*>(g.vertex(i))->setEstimate(a.true_poses[i]);
+  for (int k = 0; k < o.num_landmarks; ++k) {
+    if (auto* v = g.vertex(o.num_poses + k)) static_cast<VertexXY*>(v)->setEstimate(a.true_landmarks[k]);
+  }
+  std::size_t dims = 0;
+  for (const auto& e : g.edges()) dims += static_cast<std::size_t>(e->dimension());
+  EXPECT_NEAR(g.chi2() / static_cast<double>(dims), 1.0, 0.15);
+}
+
+}  // namespace

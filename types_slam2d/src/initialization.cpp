@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/types_slam2d/initialization.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <chrono>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+#include <vector>
+
+#include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+namespace graphslam::types_slam2d {
+
+namespace {
+
+constexpr double kTwoPi = 6.28318530717958647692;
+
+using SpMat = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+struct PoseNode {
+  VertexSE2* vertex;
+  std::vector<std::pair<const EdgeSE2*, int>> links;  // edge, index of the other pose
+  bool anchored = false;  // fixed vertex or prior
+};
+
+/// Solves a symmetric positive definite sparse system; false on failure.
+bool solveSpd(const SpMat& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  Eigen::SimplicialLDLT<SpMat> ldlt(a);
+  if (ldlt.info() != Eigen::Success) return false;
+  x = ldlt.solve(b);
+  return ldlt.info() == Eigen::Success && x.allFinite();
+}
+
+}  // namespace
+
+InitializationReport initializeGlobal(Graph& graph) {
+  const auto t0 = std::chrono::steady_clock::now();
+  InitializationReport report;
+
+  // Poses reached by relative-pose edges.
+  std::unordered_map<const Vertex*, int> pose_index;
+  std::vector<PoseNode> poses;
+  std::vector<const EdgePriorSE2*> priors;
+  std::vector<const EdgeSE2XY*> observations;
+  auto index_of = [&](const Vertex* v) {
+    auto [it, inserted] = pose_index.emplace(v, static_cast<int>(poses.size()));
+    if (inserted) {
+      auto* pose = static_cast<VertexSE2*>(graph.vertex(v->id()));
+      poses.push_back({pose, {}, pose->fixed()});
+    }
+    return it->second;
+  };
+  for (const auto& e : graph.edges()) {
+    if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
+      const int i = index_of(se2->vertex(0));
+      const int j = index_of(se2->vertex(1));
+      poses[i].links.emplace_back(se2, j);
+      poses[j].links.emplace_back(se2, i);
+    }
+  }
+  for (const auto& e : graph.edges()) {
+    if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
+      auto it = pose_index.find(prior->vertex(0));
+      if (it == pose_index.end()) continue;
+      poses[it->second].anchored = true;
+      priors.push_back(prior);
+    } else if (const auto* obs = dynamic_cast<const EdgeSE2XY*>(e.get())) {
+      if (pose_index.count(obs->vertex(0))) observations.push_back(obs);
+    }
+  }
+  const int n = static_cast<int>(poses.size());
+  if (n == 0) {
+    report.message = "no EDGE_SE2 in the graph: nothing to initialise";
+    return report;
+  }
+
+  // Spanning trees (BFS) from anchors first, then from the lowest id of every group
+  // without an anchor, which becomes that group's gauge (held at its current estimate).
+  std::vector<double> tree_theta(static_cast<std::size_t>(n), 0.0);
+  std::vector<char> visited(static_cast<std::size_t>(n), 0);
+  std::vector<char> gauge(static_cast<std::size_t>(n), 0);
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (poses[a].anchored != poses[b].anchored) return poses[a].anchored;
+    return poses[a].vertex->id() < poses[b].vertex->id();
+  });
+  // Groups: label each pose with its connected component first.
+  std::vector<int> group(static_cast<std::size_t>(n), -1);
+  std::vector<char> group_anchored;
+  for (int s : order) {
+    if (group[s] >= 0) continue;
+    const int g = static_cast<int>(group_anchored.size());
+    group_anchored.push_back(0);
+    std::queue<int> q;
+    q.push(s);
+    group[s] = g;
+    while (!q.empty()) {
+      const int u = q.front();
+      q.pop();
+      if (poses[u].anchored) group_anchored[g] = 1;
+      for (const auto& [edge, v] : poses[u].links) {
+        if (group[v] < 0) {
+          group[v] = g;
+          q.push(v);
+        }
+      }
+    }
+  }
+  for (int s : order) {
+    if (visited[s]) continue;
+    if (!poses[s].anchored && !group_anchored[group[s]]) gauge[s] = 1;
+    std::queue<int> q;
+    q.push(s);
+    visited[s] = 1;
+    tree_theta[s] = poses[s].vertex->estimate().angle();
+    while (!q.empty()) {
+      const int u = q.front();
+      q.pop();
+      for (const auto& [edge, v] : poses[u].links) {
+        if (visited[v]) continue;
+        visited[v] = 1;
+        const bool forward = edge->vertex(0) == poses[u].vertex;
+        const double dz = edge->measurement().angle();
+        tree_theta[v] = tree_theta[u] + (forward ? dz : -dz);
+        q.push(v);
+      }
+    }
+  }
+
+  // Step 1: orientations. Unknowns: every pose that is neither fixed nor a gauge.
+  std::vector<int> var(static_cast<std::size_t>(n), -1);
+  int nv = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!poses[i].vertex->fixed() && !gauge[i]) var[i] = nv++;
+  }
+  auto known_theta = [&](int i) {
+    return poses[i].vertex->fixed() || gauge[i] ? poses[i].vertex->estimate().angle() : 0.0;
+  };
+  {
+    Triplets trip;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
+    for (int u = 0; u < n; ++u) {
+      for (const auto& [edge, v] : poses[u].links) {
+        if (edge->vertex(0) != poses[u].vertex) continue;  // each edge once, from its first pose
+        const double w = edge->information()(2, 2);
+        double dz = edge->measurement().angle();
+        const double k = std::round((tree_theta[v] - tree_theta[u] - dz) / kTwoPi);
+        if (k != 0.0) ++report.wrapped_edges;
+        dz += k * kTwoPi;  // theta_v - theta_u = dz
+        const int a = var[u], b = var[v];
+        if (a >= 0) trip.emplace_back(a, a, w);
+        if (b >= 0) trip.emplace_back(b, b, w);
+        if (a >= 0 && b >= 0) {
+          trip.emplace_back(a, b, -w);
+          trip.emplace_back(b, a, -w);
+        }
+        if (a >= 0) rhs[a] += -w * dz + (b < 0 ? w * known_theta(v) : 0.0);
+        if (b >= 0) rhs[b] += w * dz + (a < 0 ? w * known_theta(u) : 0.0);
+      }
+    }
+    for (const EdgePriorSE2* prior : priors) {
+      const int i = pose_index.at(prior->vertex(0));
+      if (var[i] < 0) continue;
+      const double w = prior->information()(2, 2);
+      double z = prior->measurement().angle();
+      z += std::round((tree_theta[i] - z) / kTwoPi) * kTwoPi;
+      trip.emplace_back(var[i], var[i], w);
+      rhs[var[i]] += w * z;
+    }
+    SpMat a(nv, nv);
+    a.setFromTriplets(trip.begin(), trip.end());
+    Eigen::VectorXd theta;
+    if (nv > 0 && !solveSpd(a, rhs, theta)) {
+      report.message = "orientation system is singular: initial estimates kept";
+      return report;
+    }
+    for (int i = 0; i < n; ++i) tree_theta[i] = var[i] >= 0 ? theta[var[i]] : known_theta(i);
+  }
+
+  // Step 2: translations of poses and positions of landmarks, orientations held.
+  std::unordered_map<const Vertex*, int> lm_var;
+  std::vector<VertexXY*> landmarks;
+  for (const EdgeSE2XY* obs : observations) {
+    const Vertex* l = obs->vertex(1);
+    if (l->fixed() || lm_var.count(l)) continue;
+    lm_var.emplace(l, nv + static_cast<int>(landmarks.size()));
+    landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
+  }
+  const int nt = nv + static_cast<int>(landmarks.size());
+  {
+    Triplets trip;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nt);
+    // Adds the residual (x_b - x_a) - d with 2x2 weight W; -1 marks a known position.
+    auto add = [&](int a, const Eigen::Vector2d& xa, int b, const Eigen::Vector2d& xb,
+                   const Eigen::Vector2d& d, const Eigen::Matrix2d& w) {
+      for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 2; ++c) {
+          if (a >= 0) trip.emplace_back(2 * a + r, 2 * a + c, w(r, c));
+          if (b >= 0) trip.emplace_back(2 * b + r, 2 * b + c, w(r, c));
+          if (a >= 0 && b >= 0) {
+            trip.emplace_back(2 * a + r, 2 * b + c, -w(r, c));
+            trip.emplace_back(2 * b + r, 2 * a + c, -w(r, c));
+          }
+        }
+      }
+      if (a >= 0) rhs.segment<2>(2 * a) += -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
+      if (b >= 0) rhs.segment<2>(2 * b) += w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
+    };
+    auto pos = [&](int i) { return poses[i].vertex->estimate().translation(); };
+    for (int u = 0; u < n; ++u) {
+      for (const auto& [edge, v] : poses[u].links) {
+        if (edge->vertex(0) != poses[u].vertex) continue;
+        const Eigen::Matrix2d r = rotation2(tree_theta[u]) * edge->measurement().rotation();
+        const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
+        add(var[u], pos(u), var[v], pos(v), rotation2(tree_theta[u]) * edge->measurement().translation(), w);
+      }
+    }
+    for (const EdgeSE2XY* obs : observations) {
+      const int i = pose_index.at(obs->vertex(0));
+      const Vertex* l = obs->vertex(1);
+      const int b = l->fixed() ? -1 : lm_var.at(l);
+      const Eigen::Vector2d xl = static_cast<const VertexXY*>(l)->estimate();
+      const Eigen::Matrix2d r = rotation2(tree_theta[i]);
+      const Eigen::Matrix2d w = r * obs->information() * r.transpose();
+      add(var[i], pos(i), b, xl, r * obs->measurement(), w);
+    }
+    for (const EdgePriorSE2* prior : priors) {
+      const int i = pose_index.at(prior->vertex(0));
+      if (var[i] < 0) continue;
+      const Eigen::Matrix2d r = prior->measurement().rotation();
+      const Eigen::Matrix2d w = r * prior->information().topLeftCorner<2, 2>() * r.transpose();
+      add(-1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(), prior->measurement().translation(), w);
+    }
+    SpMat a(2 * nt, 2 * nt);
+    a.setFromTriplets(trip.begin(), trip.end());
+    Eigen::VectorXd x;
+    if (nt > 0 && !solveSpd(a, rhs, x)) {
+      report.message = "position system is singular: initial estimates kept";
+      return report;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (var[i] < 0) continue;
+      poses[i].vertex->setEstimate(SE2(x.segment<2>(2 * var[i]), tree_theta[i]));
+      ++report.poses;
+    }
+    for (std::size_t k = 0; k < landmarks.size(); ++k) {
+      landmarks[k]->setEstimate(x.segment<2>(2 * (nv + static_cast<int>(k))));
+      ++report.landmarks;
+    }
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+}  // namespace graphslam::types_slam2d
