@@ -201,18 +201,26 @@ int cmdOptimize(const std::vector<std::string>& args) {
 // ---------------------------------------------------------------------------------------
 // list-types, list-solvers
 
-int cmdListTypes(const std::vector<std::string>& args) {
+/// Parses the options of the listing commands (only --plugin); returns false after --help.
+bool parseListing(const std::vector<std::string>& args, const char* usage, Registries& reg) {
   std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")(
       "plugin", po::value(&plugins)->composing(), "also load this plugin (repeatable)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
-    printHelp("usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.", desc);
+    printHelp(usage, desc);
+    return false;
+  }
+  loadRegistries(reg, plugins);
+  return true;
+}
+
+int cmdListTypes(const std::vector<std::string>& args) {
+  Registries reg;
+  if (!parseListing(args, "usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.", reg)) {
     return kExitOk;
   }
-  Registries reg;
-  loadRegistries(reg, plugins);
   for (const auto* e : reg.types.entries()) {
     if (e->kind == TypeRegistry::Kind::kVertex) {
       auto v = e->make_vertex();
@@ -229,17 +237,10 @@ int cmdListTypes(const std::vector<std::string>& args) {
 }
 
 int cmdListSolvers(const std::vector<std::string>& args) {
-  std::vector<std::string> plugins;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")(
-      "plugin", po::value(&plugins)->composing(), "also load this plugin (repeatable)");
-  const auto vm = parse(args, desc);
-  if (vm.count("help")) {
-    printHelp("usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers this build knows.", desc);
+  Registries reg;
+  if (!parseListing(args, "usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers this build knows.", reg)) {
     return kExitOk;
   }
-  Registries reg;
-  loadRegistries(reg, plugins);
   for (const auto* e : reg.solvers.entries()) {
     std::printf("%-22s %s  (%s)\n", e->name.c_str(), e->description.c_str(), e->origin.c_str());
   }

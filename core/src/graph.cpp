@@ -31,6 +31,31 @@ bool Edge::allVerticesFixed() const {
                      [](const Vertex* v) { return v->fixed(); });
 }
 
+void Edge::numericJacobianInPlace(std::size_t slot, double* jacobian) {
+  Vertex* v = vertices_.at(slot);
+  const int d = dimension();
+  std::vector<double> delta(static_cast<std::size_t>(v->dimension()), 0.0);
+  std::vector<double> plus(static_cast<std::size_t>(d));
+  for (int k = 0; k < v->dimension(); ++k) {
+    v->push();
+    delta[k] = kNumericJacobianStep;
+    v->oplus(delta.data());
+    computeError();
+    std::copy(errorData(), errorData() + d, plus.begin());
+    v->pop();
+    v->push();
+    delta[k] = -kNumericJacobianStep;
+    v->oplus(delta.data());
+    computeError();
+    const double* minus = errorData();
+    for (int r = 0; r < d; ++r) {
+      jacobian[r + k * d] = (plus[r] - minus[r]) / (2.0 * kNumericJacobianStep);
+    }
+    v->pop();
+    delta[k] = 0.0;
+  }
+}
+
 Graph::~Graph() = default;
 
 Vertex& Graph::addVertex(std::unique_ptr<Vertex> vertex) {

@@ -48,28 +48,10 @@ class BaseMultiEdge : public Edge {
     ensureJacobians();
     const ErrorVector saved = error_;
     for (std::size_t i = 0; i < numVertices(); ++i) {
-      JacobianType& J = jacobians_[i];
       if (vertex(i)->fixed()) {
-        J.setZero();
-        continue;
-      }
-      Vertex* v = mutableVertex(i);
-      std::vector<double> delta(static_cast<std::size_t>(v->dimension()), 0.0);
-      for (int k = 0; k < v->dimension(); ++k) {
-        v->push();
-        delta[k] = kNumericJacobianStep;
-        v->oplus(delta.data());
-        computeError();
-        const ErrorVector ep = error_;
-        v->pop();
-        v->push();
-        delta[k] = -kNumericJacobianStep;
-        v->oplus(delta.data());
-        computeError();
-        const ErrorVector em = error_;
-        v->pop();
-        delta[k] = 0.0;
-        J.col(k) = (ep - em) / (2.0 * kNumericJacobianStep);
+        jacobians_[i].setZero();
+      } else {
+        numericJacobianInPlace(i, jacobians_[i].data());
       }
     }
     error_ = saved;

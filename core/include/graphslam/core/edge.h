@@ -30,6 +30,9 @@ struct QuadraticFormTarget {
   const int* b_offsets = nullptr;
 };
 
+/// Step of the central differences used by the numeric Jacobian defaults.
+inline constexpr double kNumericJacobianStep = 1e-6;
+
 /// Index of the pair (a, b), a <= b, in `QuadraticFormTarget::blocks` for an edge of
 /// arity n.
 constexpr int upperPairIndex(int a, int b, int n) { return a * n - a * (a - 1) / 2 + (b - a); }
@@ -96,8 +99,12 @@ class Edge {
   virtual void setInformationData(const double* data) = 0;
 
  protected:
-  /// Mutable access for the g2o-style numeric Jacobian fallback only.
-  [[nodiscard]] Vertex* mutableVertex(std::size_t slot) const { return vertices_[slot]; }
+  /// Central-difference Jacobian of the error w.r.t. the vertex in `slot`, perturbing
+  /// that vertex in place (push, oplus, computeError, pop); for types whose error is only
+  /// available through computeError(). Writes dimension() x vertex dimension values,
+  /// column-major, to `jacobian`. Leaves the stored error as computeError() makes it at
+  /// the unperturbed estimate's neighbours: callers restore it.
+  void numericJacobianInPlace(std::size_t slot, double* jacobian);
 
  private:
   friend class Graph;

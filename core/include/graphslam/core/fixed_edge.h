@@ -31,9 +31,6 @@ struct EvaluateNotProvided {};
 
 }  // namespace detail
 
-/// Step of the central differences used by the numeric Jacobian default.
-inline constexpr double kNumericJacobianStep = 1e-6;
-
 /// Edge of fixed error dimension `D`, measurement type `MeasurementT` and vertex types
 /// `Vs...` (each a BaseVertex). The common base for new types.
 ///
@@ -238,25 +235,8 @@ class FixedEdge : public Edge {
       auto& J = std::get<I>(jacobians_);
       if (vertex(I)->fixed()) {
         J.setZero();
-        return;
-      }
-      Vertex* v = mutableVertex(I);
-      double delta[VertexXi<I>::kDimension] = {};
-      for (int k = 0; k < VertexXi<I>::kDimension; ++k) {
-        v->push();
-        delta[k] = kNumericJacobianStep;
-        v->oplus(delta);
-        computeError();
-        const ErrorVector ep = error_;
-        v->pop();
-        v->push();
-        delta[k] = -kNumericJacobianStep;
-        v->oplus(delta);
-        computeError();
-        const ErrorVector em = error_;
-        v->pop();
-        delta[k] = 0.0;
-        J.col(k) = (ep - em) / (2.0 * kNumericJacobianStep);
+      } else {
+        numericJacobianInPlace(I, J.data());
       }
     });
     error_ = saved;
