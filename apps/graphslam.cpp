@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "builtins.h"
+#include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/file_util.h"
 #include "graphslam/core/io_g2o.h"
@@ -21,46 +22,10 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
-namespace po = boost::program_options;
 using namespace graphslam;
+using namespace graphslam::apps;
 
 namespace {
-
-constexpr int kExitOk = 0;
-constexpr int kExitFailed = 1;    // the optimisation did not succeed
-constexpr int kExitBadInput = 2;  // bad arguments or input data
-
-/// Thrown for bad command-line use; main prints it with the subcommand's usage hint.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-struct Registries {
-  // Declared first so it is destroyed last: the registries hold factories whose code
-  // lives in the plugin libraries, and graphs built from them are destroyed before these.
-  std::vector<std::unique_ptr<Plugin>> plugins;
-  TypeRegistry types;
-  SolverRegistry solvers;
-};
-
-void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
-  apps::registerBuiltins(r.types, r.solvers);
-  for (const auto& path : plugins) r.plugins.push_back(Plugin::load(path, r.types, r.solvers));
-}
-
-po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
-                        const po::positional_options_description* pos = nullptr) {
-  po::variables_map vm;
-  auto parser = po::command_line_parser(args).options(desc);
-  if (pos) parser.positional(*pos);
-  po::store(parser.run(), vm);
-  po::notify(vm);
-  return vm;
-}
-
-void printHelp(const char* usage, const po::options_description& desc) {
-  std::cout << usage << "\n\n" << desc << "\n";
-}
 
 // ---------------------------------------------------------------------------------------
 // optimize
@@ -97,6 +62,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
       ("stats", po::value(&stats_file), "write per-iteration statistics as CSV")
       ("init", po::value(&init)->default_value("global"), "initial guess: none (the file's estimates) or global (SE(2) orientations, then positions, by linear least squares)")
       ("quiet,q", "print only the summary")
+      ("step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance), "converged when the Euclidean norm of the update is below this")
+      ("function-tolerance", po::value(&options.function_tolerance)->default_value(options.function_tolerance), "converged when chi2 falls by less than this fraction (0: off)")
       ("lambda-init", po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor), "LM initial damping factor")
       ("lambda-decrease", po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease), "LM: largest shrink of lambda after a good step (factor)")
       ("damping", po::value(&damping)->default_value("identity"), "LM damping: identity (lambda I) or diagonal (lambda diag(H))");
@@ -297,6 +264,10 @@ constexpr const char* kMainUsage =
     "commands:\n"
     "  optimize       optimise a .g2o graph (or the built-in default graph)\n"
     "  simulate       write a synthetic Manhattan-world graph with ground truth\n"
+    "  eval           trajectory error: eval ape|rpe REF EST (evo's definitions)\n"
+    "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"
+    "  convert        relative-pose matrix -> .g2o pose graph; .g2o -> TUM / KITTI\n"
+    "  info           counts, components, fixed vertices, sparsity picture of H\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n";
 
@@ -322,6 +293,10 @@ int main(int argc, char** argv) {
     if (command == "list-types") return cmdListTypes(args);
     if (command == "list-solvers") return cmdListSolvers(args);
     if (command == "simulate") return cmdSimulate(args);
+    if (command == "eval") return cmdEval(args);
+    if (command == "deadreckon") return cmdDeadreckon(args);
+    if (command == "convert") return cmdConvert(args);
+    if (command == "info") return cmdInfo(args);
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {

@@ -407,7 +407,8 @@ Summary Optimizer::optimize() {
 
     double step = 0.0;
     if (accepted) {
-      for (int i = 0; i < n; ++i) step = std::max(step, std::abs(im.dx[i]));
+      for (int i = 0; i < n; ++i) step += im.dx[i] * im.dx[i];
+      step = std::sqrt(step);
     }
     if (fallback && !damped && !stop) {
       non_improving = (std::isfinite(new_chi2) && new_chi2 < best_chi2) ? 0 : non_improving + 1;
@@ -432,7 +433,8 @@ Summary Optimizer::optimize() {
     chi2 = new_chi2;
     if (options_.callback) options_.callback(st);
     if (stop) break;
-    const bool small_change = std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
+    const bool small_change = options_.function_tolerance > 0 &&
+                              std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
     if ((small_change || step < options_.step_tolerance) && !(fallback && !damped && chi2 > best_chi2)) {
       summary.status = TerminationStatus::kConverged;
       break;

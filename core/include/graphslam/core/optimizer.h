@@ -47,7 +47,7 @@ struct IterationStats {
   int iteration = 0;          ///< 1-based
   double chi2 = 0.0;          ///< after the iteration's (accepted) step
   double lambda = 0.0;        ///< damping used by the accepted step (0 for Gauss-Newton)
-  double step_norm = 0.0;     ///< max-norm of the accepted update
+  double step_norm = 0.0;     ///< Euclidean norm of the accepted update
   int attempts = 1;           ///< factorisations this iteration (LM retries on rejection)
   bool accepted = true;       ///< false when LM found no decreasing step
   TimeSplit time;
@@ -94,7 +94,7 @@ class Optimizer {
     std::string linear_solver = "eigen-ldlt";
     /// Converged when an accepted step lowers chi2 by less than this fraction.
     double function_tolerance = 1e-10;
-    /// Converged when the max-norm of the update is below this.
+    /// Converged when the Euclidean norm of the update is below this.
     double step_tolerance = 1e-12;
     /// LM damping term: lambda * I (g2o) or lambda * diag(H) (Marquardt, scale-invariant).
     enum class Damping { kIdentity, kDiagonal };

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// Helpers shared by the graphslam tool's subcommands.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "builtins.h"
+#include "graphslam/core/plugin.h"
+
+namespace graphslam::apps {
+
+namespace po = boost::program_options;
+
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;    // the optimisation did not succeed
+constexpr int kExitBadInput = 2;  // bad arguments or input data
+
+/// Thrown for bad command-line use; main prints it with the subcommand's usage hint.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Registries {
+  // Declared first so it is destroyed last: the registries hold factories whose code
+  // lives in the plugin libraries, and graphs built from them are destroyed before these.
+  std::vector<std::unique_ptr<Plugin>> plugins;
+  TypeRegistry types;
+  SolverRegistry solvers;
+};
+
+inline void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
+  registerBuiltins(r.types, r.solvers);
+  for (const auto& path : plugins) r.plugins.push_back(Plugin::load(path, r.types, r.solvers));
+}
+
+inline po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
+                        const po::positional_options_description* pos = nullptr) {
+  po::variables_map vm;
+  auto parser = po::command_line_parser(args).options(desc);
+  if (pos) parser.positional(*pos);
+  po::store(parser.run(), vm);
+  po::notify(vm);
+  return vm;
+}
+
+inline void printHelp(const char* usage, const po::options_description& desc) {
+  std::cout << usage << "\n\n" << desc << "\n";
+}
+
+
+// Subcommands implemented outside graphslam.cpp.
+int cmdEval(const std::vector<std::string>& args);
+int cmdDeadreckon(const std::vector<std::string>& args);
+int cmdConvert(const std::vector<std::string>& args);
+int cmdInfo(const std::vector<std::string>& args);
+
+}  // namespace graphslam::apps

@@ -1,0 +1,40 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Sparsity picture of a block matrix written by graphslam (`info --plot-hessian`).
+Input CSV: a line `n,<size>`, a header `row,col,rows,cols`, then one dense block per line.
+usage: plot_sparsity.py BLOCKS.csv OUT.png TITLE"""
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PatchCollection  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
+
+
+def main():
+    path, out, title = sys.argv[1], sys.argv[2], sys.argv[3]
+    with open(path) as f:
+        n = int(f.readline().split(",")[1])
+        f.readline()
+        blocks = {tuple(int(v) for v in line.split(",")) for line in f if line.strip()}
+    fig, ax = plt.subplots(figsize=(6.5, 6.5))
+    patches = [Rectangle((c, r), w, h) for r, c, h, w in blocks]
+    ax.add_collection(PatchCollection(patches, facecolor="tab:blue", edgecolor="none"))
+    ax.set_xlim(0, n)
+    ax.set_ylim(n, 0)
+    ax.set_aspect("equal")
+    nnz = sum(h * w for _, _, h, w in blocks)
+    ax.set_title(f"{title}\n{n} x {n}, {nnz} non-zeros ({100.0 * nnz / (n * n):.3g} %)", fontsize=9)
+    if n <= 60:
+        ax.set_xticks(range(0, n + 1, 3))
+        ax.set_yticks(range(0, n + 1, 3))
+        ax.grid(True, linewidth=0.3)
+        ax.tick_params(labelsize=6)
+    fig.tight_layout()
+    fig.savefig(out, dpi=130)
+
+
+if __name__ == "__main__":
+    main()
