@@ -16,7 +16,6 @@ namespace graphslam::apps {
 
 namespace po = boost::program_options;
 
-
 constexpr int kExitOk = 0;
 constexpr int kExitFailed = 1;    // the optimisation did not succeed
 constexpr int kExitBadInput = 2;  // bad arguments or input data
@@ -39,8 +38,9 @@ inline void loadRegistries(Registries& r, const std::vector<std::string>& plugin
   for (const auto& path : plugins) r.plugins.push_back(Plugin::load(path, r.types, r.solvers));
 }
 
-inline po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
-                        const po::positional_options_description* pos = nullptr) {
+inline po::variables_map parse(const std::vector<std::string>& args,
+                               const po::options_description& desc,
+                               const po::positional_options_description* pos = nullptr) {
   po::variables_map vm;
   auto parser = po::command_line_parser(args).options(desc);
   if (pos) parser.positional(*pos);
@@ -52,7 +52,6 @@ inline po::variables_map parse(const std::vector<std::string>& args, const po::o
 inline void printHelp(const char* usage, const po::options_description& desc) {
   std::cout << usage << "\n\n" << desc << "\n";
 }
-
 
 // Subcommands implemented outside graphslam.cpp.
 int cmdEval(const std::vector<std::string>& args);

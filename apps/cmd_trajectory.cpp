@@ -24,7 +24,8 @@ namespace {
 constexpr double kRadToDeg = 57.295779513082320876;
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 /// "auto" picks by extension: .g2o, .kitti, anything else TUM.
@@ -50,7 +51,8 @@ Graph loadGraphOrThrow(const std::string& path, const Registries& reg) {
   return std::move(loaded.graph);
 }
 
-Trajectory loadTrajectory(const std::string& path, const std::string& format, const Registries& reg) {
+Trajectory loadTrajectory(const std::string& path, const std::string& format,
+                          const Registries& reg) {
   const std::string f = trajectoryFormat(path, format);
   if (f == "g2o") return types_slam2d::trajectoryFromGraph(loadGraphOrThrow(path, reg));
   if (f == "kitti") return readKitti(path);
@@ -71,27 +73,39 @@ void saveTrajectory(const std::string& path, const Trajectory& t, const std::str
 
 PoseRelation parseRelation(const std::string& r) {
   static const std::map<std::string, PoseRelation> names = {
-      {"trans_part", PoseRelation::kTranslationPart},   {"rot_part", PoseRelation::kRotationPart},
-      {"angle_deg", PoseRelation::kRotationAngleDeg},   {"angle_rad", PoseRelation::kRotationAngleRad},
-      {"full", PoseRelation::kFullTransformation},      {"point_distance", PoseRelation::kPointDistance},
+      {"trans_part", PoseRelation::kTranslationPart},
+      {"rot_part", PoseRelation::kRotationPart},
+      {"angle_deg", PoseRelation::kRotationAngleDeg},
+      {"angle_rad", PoseRelation::kRotationAngleRad},
+      {"full", PoseRelation::kFullTransformation},
+      {"point_distance", PoseRelation::kPointDistance},
       {"point_distance_error_ratio", PoseRelation::kPointDistanceErrorRatio}};
   auto it = names.find(r);
   if (it == names.end()) {
-    throw UsageError("--pose-relation must be trans_part, rot_part, angle_deg, angle_rad, full, "
-                     "point_distance or point_distance_error_ratio, not '" + r + "'");
+    throw UsageError(
+        "--pose-relation must be trans_part, rot_part, angle_deg, angle_rad, full, "
+        "point_distance or point_distance_error_ratio, not '" +
+        r + "'");
   }
   return it->second;
 }
 
 std::string relationTitle(PoseRelation r) {
   switch (r) {
-    case PoseRelation::kTranslationPart: return "translation part (m)";
-    case PoseRelation::kRotationPart: return "rotation part (unit-less)";
-    case PoseRelation::kRotationAngleDeg: return "rotation angle in degrees (deg)";
-    case PoseRelation::kRotationAngleRad: return "rotation angle in radians (rad)";
-    case PoseRelation::kFullTransformation: return "full transformation (unit-less)";
-    case PoseRelation::kPointDistance: return "point distance (m)";
-    case PoseRelation::kPointDistanceErrorRatio: return "point distance error ratio (%)";
+    case PoseRelation::kTranslationPart:
+      return "translation part (m)";
+    case PoseRelation::kRotationPart:
+      return "rotation part (unit-less)";
+    case PoseRelation::kRotationAngleDeg:
+      return "rotation angle in degrees (deg)";
+    case PoseRelation::kRotationAngleRad:
+      return "rotation angle in radians (rad)";
+    case PoseRelation::kFullTransformation:
+      return "full transformation (unit-less)";
+    case PoseRelation::kPointDistance:
+      return "point distance (m)";
+    case PoseRelation::kPointDistanceErrorRatio:
+      return "point distance error ratio (%)";
   }
   return "?";
 }
@@ -120,8 +134,8 @@ void writePositionsCsv(const std::string& path, const Trajectory& t) {
     out << "t,x,y,z\n";
     for (std::size_t i = 0; i < t.size(); ++i) {
       const Eigen::Vector3d p = t.position(i);
-      out << formatDouble(t.timestamp(i)) << ',' << formatDouble(p.x()) << ',' << formatDouble(p.y()) << ','
-          << formatDouble(p.z()) << '\n';
+      out << formatDouble(t.timestamp(i)) << ',' << formatDouble(p.x()) << ','
+          << formatDouble(p.y()) << ',' << formatDouble(p.z()) << '\n';
     }
   });
 }
@@ -132,37 +146,41 @@ void writePositionsCsv(const std::string& path, const Trajectory& t) {
 // eval
 
 int cmdEval(const std::vector<std::string>& args) {
-  std::string metric, ref_path, est_path, relation = "trans_part", ref_format = "auto", est_format = "auto";
+  std::string metric, ref_path, est_path, relation = "trans_part", ref_format = "auto",
+                                          est_format = "auto";
   std::string save, plot_dir, unit = "f";
   double t_max_diff = 0.01, t_offset = 0.0, delta = 1.0;
   int n_to_align = -1;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("metric", po::value(&metric), "ape or rpe")
-      ("ref", po::value(&ref_path), "reference trajectory (TUM, KITTI or .g2o)")
-      ("est", po::value(&est_path), "estimated trajectory (TUM, KITTI or .g2o)")
-      ("pose-relation,r", po::value(&relation)->default_value("trans_part"),
-       "trans_part, rot_part, angle_deg, angle_rad, full, point_distance, point_distance_error_ratio")
-      ("align,a", "SE(3) Umeyama alignment")
-      ("correct-scale,s", "correct the scale (Sim(3) with --align, scale only without)")
-      ("align-origin", "align the first poses")
-      ("n-to-align", po::value(&n_to_align)->default_value(-1), "use only the first N poses for alignment")
-      ("t-max-diff", po::value(&t_max_diff)->default_value(0.01), "maximum timestamp difference for association (s)")
-      ("t-offset", po::value(&t_offset)->default_value(0.0), "offset added to the estimate's timestamps (s)")
-      ("delta,d", po::value(&delta)->default_value(1.0), "RPE: delta between compared poses")
-      ("delta-unit,u", po::value(&unit)->default_value("f"), "RPE: f (frames), m, rad, deg")
-      ("all-pairs", "RPE: use all pairs with the given delta, not consecutive ones")
-      ("ref-format", po::value(&ref_format)->default_value("auto"), "auto, tum, kitti or g2o")
-      ("est-format", po::value(&est_format)->default_value("auto"), "auto, tum, kitti or g2o")
-      ("save-results", po::value(&save), "write the result as .json or .csv")
-      ("plot", po::value(&plot_dir), "write PNG plots into this directory");
+  desc.add_options()("help,h", "show this help")("metric", po::value(&metric), "ape or rpe")(
+      "ref", po::value(&ref_path), "reference trajectory (TUM, KITTI or .g2o)")(
+      "est", po::value(&est_path), "estimated trajectory (TUM, KITTI or .g2o)")(
+      "pose-relation,r", po::value(&relation)->default_value("trans_part"),
+      "trans_part, rot_part, angle_deg, angle_rad, full, point_distance, "
+      "point_distance_error_ratio")("align,a", "SE(3) Umeyama alignment")(
+      "correct-scale,s", "correct the scale (Sim(3) with --align, scale only without)")(
+      "align-origin", "align the first poses")("n-to-align",
+                                               po::value(&n_to_align)->default_value(-1),
+                                               "use only the first N poses for alignment")(
+      "t-max-diff", po::value(&t_max_diff)->default_value(0.01),
+      "maximum timestamp difference for association (s)")(
+      "t-offset", po::value(&t_offset)->default_value(0.0),
+      "offset added to the estimate's timestamps (s)")(
+      "delta,d", po::value(&delta)->default_value(1.0), "RPE: delta between compared poses")(
+      "delta-unit,u", po::value(&unit)->default_value("f"), "RPE: f (frames), m, rad, deg")(
+      "all-pairs", "RPE: use all pairs with the given delta, not consecutive ones")(
+      "ref-format", po::value(&ref_format)->default_value("auto"), "auto, tum, kitti or g2o")(
+      "est-format", po::value(&est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
+      "save-results", po::value(&save), "write the result as .json or .csv")(
+      "plot", po::value(&plot_dir), "write PNG plots into this directory");
   po::positional_options_description pos;
   pos.add("metric", 1).add("ref", 1).add("est", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
-    printHelp("usage: graphslam eval ape|rpe REF EST [options]\n"
-              "Absolute / relative pose error with evo's definitions and statistics.",
-              desc);
+    printHelp(
+        "usage: graphslam eval ape|rpe REF EST [options]\n"
+        "Absolute / relative pose error with evo's definitions and statistics.",
+        desc);
     return kExitOk;
   }
   if (metric != "ape" && metric != "rpe") throw UsageError("the metric must be ape or rpe");
@@ -171,11 +189,13 @@ int cmdEval(const std::vector<std::string>& args) {
   loadRegistries(reg, {});
   const Trajectory ref = loadTrajectory(ref_path, ref_format, reg);
   const Trajectory est = loadTrajectory(est_path, est_format, reg);
-  const bool kitti = trajectoryFormat(ref_path, ref_format) == "kitti" || trajectoryFormat(est_path, est_format) == "kitti";
+  const bool kitti = trajectoryFormat(ref_path, ref_format) == "kitti" ||
+                     trajectoryFormat(est_path, est_format) == "kitti";
 
   AlignmentOptions align;
   const bool a = vm.count("align") != 0, s = vm.count("correct-scale") != 0;
-  align.mode = a ? (s ? AlignmentMode::kSim3 : AlignmentMode::kSE3) : (s ? AlignmentMode::kScaleOnly : AlignmentMode::kNone);
+  align.mode = a ? (s ? AlignmentMode::kSim3 : AlignmentMode::kSE3)
+                 : (s ? AlignmentMode::kScaleOnly : AlignmentMode::kNone);
   align.align_origin = vm.count("align-origin") != 0;
   align.num_poses = n_to_align;
   AssociationOptions assoc;
@@ -185,45 +205,48 @@ int cmdEval(const std::vector<std::string>& args) {
 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<double> errors;
-  std::vector<std::string> labels;  // per error: timestamp (APE) or "i,j" (RPE)
+  std::vector<std::string> labels;  // per error: timestamp of the (second) pose it belongs to
   ErrorStatistics stats;
   Trajectory ref_used, est_used;
-  if (metric == "ape") {
-    ApeOptions o;
+  auto common = [&](auto& o) {
     o.pose_relation = rel;
-    o.associate = !kitti;
+    o.associate = !kitti;  // KITTI files have no timestamps
     o.association = assoc;
     o.alignment = align;
-    ApeResult r = computeApe(ref, est, o);
+  };
+  auto take = [&](const auto& r) {
     errors = r.errors;
     stats = r.statistics;
     ref_used = r.reference;
     est_used = r.estimate;
-    for (std::size_t i = 0; i < r.reference.size(); ++i) labels.push_back(formatDouble(r.reference.timestamp(i)));
+  };
+  if (metric == "ape") {
+    ApeOptions o;
+    common(o);
+    const ApeResult r = computeApe(ref, est, o);
+    take(r);
+    for (std::size_t i = 0; i < r.reference.size(); ++i)
+      labels.push_back(formatDouble(r.reference.timestamp(i)));
   } else {
     RpeOptions o;
-    o.pose_relation = rel;
+    common(o);
     o.delta = delta;
     o.delta_unit = parseUnit(unit);
     o.all_pairs = vm.count("all-pairs") != 0;
-    o.associate = !kitti;
-    o.association = assoc;
-    o.alignment = align;
-    RpeResult r = computeRpe(ref, est, o);
-    errors = r.errors;
-    stats = r.statistics;
-    ref_used = r.reference;
-    est_used = r.estimate;
+    const RpeResult r = computeRpe(ref, est, o);
+    take(r);
     for (const auto& [i, j] : r.id_pairs) labels.push_back(formatDouble(r.reference.timestamp(j)));
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::string mode = "(not aligned)";
   if (align.mode == AlignmentMode::kSE3) mode = "(with SE(3) Umeyama alignment)";
   if (align.mode == AlignmentMode::kSim3) mode = "(with Sim(3) Umeyama alignment)";
   if (align.mode == AlignmentMode::kScaleOnly) mode = "(scale corrected)";
   if (align.align_origin) mode += " (with origin alignment)";
-  std::string title = (metric == "ape" ? "APE" : "RPE") + std::string(" w.r.t. ") + relationTitle(rel);
+  std::string title =
+      (metric == "ape" ? "APE" : "RPE") + std::string(" w.r.t. ") + relationTitle(rel);
   if (metric == "rpe") title += ", delta " + formatDouble(delta) + " " + unit;
   std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
               statsTable(stats).c_str(), ref_used.size(), errors.size(), seconds);
@@ -231,20 +254,25 @@ int cmdEval(const std::vector<std::string>& args) {
   if (!save.empty()) {
     if (endsWith(save, ".json")) {
       writeFileAtomically(save, [&](std::ostream& out) {
-        out << "{\n  \"metric\": \"" << metric << "\",\n  \"title\": \"" << title << "\",\n  \"alignment\": \""
-            << mode << "\",\n  \"statistics\": {\"max\": " << jsonNumber(stats.max) << ", \"mean\": "
-            << jsonNumber(stats.mean) << ", \"median\": " << jsonNumber(stats.median) << ", \"min\": "
-            << jsonNumber(stats.min) << ", \"rmse\": " << jsonNumber(stats.rmse) << ", \"sse\": "
-            << jsonNumber(stats.sse) << ", \"std\": " << jsonNumber(stats.std_dev) << "},\n  \"timestamps\": [";
+        out << "{\n  \"metric\": \"" << metric << "\",\n  \"title\": \"" << title
+            << "\",\n  \"alignment\": \"" << mode
+            << "\",\n  \"statistics\": {\"max\": " << jsonNumber(stats.max)
+            << ", \"mean\": " << jsonNumber(stats.mean)
+            << ", \"median\": " << jsonNumber(stats.median)
+            << ", \"min\": " << jsonNumber(stats.min) << ", \"rmse\": " << jsonNumber(stats.rmse)
+            << ", \"sse\": " << jsonNumber(stats.sse) << ", \"std\": " << jsonNumber(stats.std_dev)
+            << "},\n  \"timestamps\": [";
         for (std::size_t i = 0; i < labels.size(); ++i) out << (i ? ", " : "") << labels[i];
         out << "],\n  \"errors\": [";
-        for (std::size_t i = 0; i < errors.size(); ++i) out << (i ? ", " : "") << jsonNumber(errors[i]);
+        for (std::size_t i = 0; i < errors.size(); ++i)
+          out << (i ? ", " : "") << jsonNumber(errors[i]);
         out << "]\n}\n";
       });
     } else if (endsWith(save, ".csv")) {
       writeFileAtomically(save, [&](std::ostream& out) {
         out << "t,error\n";
-        for (std::size_t i = 0; i < errors.size(); ++i) out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
+        for (std::size_t i = 0; i < errors.size(); ++i)
+          out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
       });
     } else {
       throw UsageError("--save-results must end in .json or .csv");
@@ -255,7 +283,8 @@ int cmdEval(const std::vector<std::string>& args) {
     writePositionsCsv(plot_dir + "/" + metric + "_estimate.csv", est_used);
     writeFileAtomically(plot_dir + "/" + metric + "_errors.csv", [&](std::ostream& out) {
       out << "t,error\n";
-      for (std::size_t i = 0; i < errors.size(); ++i) out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
+      for (std::size_t i = 0; i < errors.size(); ++i)
+        out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
     });
     runPlotScript("plot_eval.py", {plot_dir, metric, title + " " + mode});
     std::printf("plots: %s/%s_trajectories.png, %s_error.png, %s_error_map.png\n", plot_dir.c_str(),
@@ -270,18 +299,20 @@ int cmdEval(const std::vector<std::string>& args) {
 int cmdDeadreckon(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("input", po::value(&input), "3xN relative-pose matrix file, or a .g2o graph")
-      ("output,o", po::value(&output), "write the trajectory (TUM, or KITTI for .kitti)")
-      ("format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti");
+  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+      "output,o", po::value(&output), "write the trajectory (TUM, or KITTI for .kitti)")(
+      "format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
-    printHelp("usage: graphslam deadreckon IN [-o OUT.tum]\n"
-              "Composes relative SE(2) poses from the identity (a 3xN matrix, column k = (dx, dy, dtheta)\n"
-              "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a .g2o, into a trajectory.",
-              desc);
+    printHelp(
+        "usage: graphslam deadreckon IN [-o OUT.tum]\n"
+        "Composes relative SE(2) poses from the identity (a 3xN matrix, column k = (dx, dy, "
+        "dtheta)\n"
+        "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a .g2o, into a trajectory.",
+        desc);
     return kExitOk;
   }
   if (input.empty()) throw UsageError("deadreckon needs an input file");
@@ -297,9 +328,11 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
   const std::size_t last = t.size() - 1;
   const Eigen::Isometry3d& p = t.pose(last);
   const double theta = std::atan2(p.linear()(1, 0), p.linear()(0, 0));
-  std::printf("%zu poses; last (pose %zu): x %.6f  y %.6f  theta %.6f rad (%.2f deg), %.4f m from the first\n",
-              t.size(), last, p.translation().x(), p.translation().y(), theta, theta * kRadToDeg,
-              (p.translation() - t.position(0)).norm());
+  std::printf(
+      "%zu poses; last (pose %zu): x %.6f  y %.6f  theta %.6f rad (%.2f deg), %.4f m from the "
+      "first\n",
+      t.size(), last, p.translation().x(), p.translation().y(), theta, theta * kRadToDeg,
+      (p.translation() - t.position(0)).norm());
   if (!output.empty()) {
     saveTrajectory(output, t, format);
     std::printf("wrote %s\n", output.c_str());
@@ -314,20 +347,25 @@ int cmdConvert(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   std::vector<double> info;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("input", po::value(&input), "3xN relative-pose matrix file, or a .g2o graph")
-      ("output", po::value(&output), "OUT.g2o (from a matrix), or OUT.tum / OUT.kitti (from a .g2o)")
-      ("no-loop-closure", "matrix input: the last column is odometry too, not a loop closure to pose 0")
-      ("information", po::value(&info)->multitoken(), "matrix input: I11 I12 I13 I22 I23 I33 of every edge (default identity)")
-      ("format", po::value(&format)->default_value("auto"), "trajectory output: auto, tum or kitti");
+  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+      "output", po::value(&output),
+      "OUT.g2o (from a matrix), or OUT.tum / OUT.kitti (from a .g2o)")(
+      "no-loop-closure",
+      "matrix input: the last column is odometry too, not a loop closure to pose 0")(
+      "information", po::value(&info)->multitoken(),
+      "matrix input: I11 I12 I13 I22 I23 I33 of every edge (default identity)")(
+      "format", po::value(&format)->default_value("auto"), "trajectory output: auto, tum or kitti");
   po::positional_options_description pos;
   pos.add("input", 1).add("output", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
-    printHelp("usage: graphslam convert IN OUT\n"
-              "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to pose 0)\n"
-              "  .g2o -> TUM/KITTI: the VERTEX_SE2 estimates as a trajectory (timestamp = id)",
-              desc);
+    printHelp(
+        "usage: graphslam convert IN OUT\n"
+        "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
+        "pose 0)\n"
+        "  .g2o -> TUM/KITTI: the VERTEX_SE2 estimates as a trajectory (timestamp = id)",
+        desc);
     return kExitOk;
   }
   if (input.empty() || output.empty()) throw UsageError("convert needs IN and OUT");
@@ -343,16 +381,19 @@ int cmdConvert(const std::vector<std::string>& args) {
   types_slam2d::RelativePoseGraphOptions options;
   options.last_column_closes_loop = vm.count("no-loop-closure") == 0;
   if (!info.empty()) {
-    if (info.size() != 6) throw UsageError("--information takes 6 numbers (upper triangle of a 3x3 matrix)");
-    options.information << info[0], info[1], info[2], info[1], info[3], info[4], info[2], info[4], info[5];
+    if (info.size() != 6)
+      throw UsageError("--information takes 6 numbers (upper triangle of a 3x3 matrix)");
+    options.information << info[0], info[1], info[2], info[1], info[3], info[4], info[2], info[4],
+        info[5];
     if (options.information.llt().info() != Eigen::Success) {
       throw UsageError("--information is not positive definite");
     }
   }
   const Graph graph = types_slam2d::poseGraphFromRelativePoses(readMatrix3xN(input), options);
   io::saveG2o(output, graph, reg.types);
-  std::printf("wrote %s: %zu poses, %zu edges%s\n", output.c_str(), graph.numVertices(), graph.numEdges(),
-              options.last_column_closes_loop ? " (last column as the loop closure to pose 0)" : "");
+  std::printf(
+      "wrote %s: %zu poses, %zu edges%s\n", output.c_str(), graph.numVertices(), graph.numEdges(),
+      options.last_column_closes_loop ? " (last column as the loop closure to pose 0)" : "");
   return kExitOk;
 }
 
@@ -363,17 +404,18 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::string input, plot;
   std::vector<std::string> plugins;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("input", po::value(&input), "input .g2o file")
-      ("plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")
-      ("plugin", po::value(&plugins)->composing(), "load types from this shared library (repeatable)");
+  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+      "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
+      "plugin", po::value(&plugins)->composing(),
+      "load types from this shared library (repeatable)");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
-    printHelp("usage: graphslam info IN.g2o [--plot-hessian FILE.png]\n"
-              "Counts per type, connected components, fixed vertices, and the sparsity of H.",
-              desc);
+    printHelp(
+        "usage: graphslam info IN.g2o [--plot-hessian FILE.png]\n"
+        "Counts per type, connected components, fixed vertices, and the sparsity of H.",
+        desc);
     return kExitOk;
   }
   if (input.empty()) throw UsageError("info needs an input file");
@@ -383,7 +425,8 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::map<std::string, std::size_t> counts;
   for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
   for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
-  std::printf("%s: %zu vertices, %zu edges\n", input.c_str(), graph.numVertices(), graph.numEdges());
+  std::printf("%s: %zu vertices, %zu edges\n", input.c_str(), graph.numVertices(),
+              graph.numEdges());
   for (const auto& [tag, n] : counts) std::printf("  %-20s %zu\n", tag.c_str(), n);
 
   // Columns of H in id order, over all vertices (fixed ones included, as the picture of H).
@@ -423,8 +466,8 @@ int cmdInfo(const std::vector<std::string>& args) {
     if (!v->fixed()) continue;
     if (++num_fixed <= 20) fixed += " " + std::to_string(id);
   }
-  std::printf("fixed vertices: %zu%s%s\n", num_fixed, num_fixed ? ":" : " (the optimizer fixes the lowest id)",
-              fixed.c_str());
+  std::printf("fixed vertices: %zu%s%s\n", num_fixed,
+              num_fixed ? ":" : " (the optimizer fixes the lowest id)", fixed.c_str());
   std::printf("information matrix H: %d x %d\n", n, n);
 
   if (!plot.empty()) {

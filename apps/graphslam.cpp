@@ -31,8 +31,10 @@ namespace {
 // optimize
 
 constexpr const char* kOptimizeUsage =
-    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm] [--solver NAME]\n"
-    "                          [--init global|none] [--plugin LIB]... [--stats FILE.csv] [--quiet]\n"
+    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm] [--solver "
+    "NAME]\n"
+    "                          [--init global|none] [--plugin LIB]... [--stats FILE.csv] "
+    "[--quiet]\n"
     "Optimises a .g2o graph and prints one line per iteration and a summary.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).";
 
@@ -52,21 +54,32 @@ int cmdOptimize(const std::vector<std::string>& args) {
   std::string damping, init;
   Optimizer::Options options;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("input", po::value(&input), "input .g2o file")
-      ("output,o", po::value(&output), "write the optimised graph here (atomically)")
-      ("iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")
-      ("algorithm", po::value(&algorithm)->default_value("auto"), "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm (Levenberg-Marquardt)")
-      ("solver", po::value(&solver)->default_value("eigen-ldlt"), "linear solver (see graphslam list-solvers)")
-      ("plugin", po::value(&plugins)->composing(), "load types/solvers from this shared library (repeatable)")
-      ("stats", po::value(&stats_file), "write per-iteration statistics as CSV")
-      ("init", po::value(&init)->default_value("global"), "initial guess: none (the file's estimates) or global (SE(2) orientations, then positions, by linear least squares)")
-      ("quiet,q", "print only the summary")
-      ("step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance), "converged when the Euclidean norm of the update is below this")
-      ("function-tolerance", po::value(&options.function_tolerance)->default_value(options.function_tolerance), "converged when chi2 falls by less than this fraction (0: off)")
-      ("lambda-init", po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor), "LM initial damping factor")
-      ("lambda-decrease", po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease), "LM: largest shrink of lambda after a good step (factor)")
-      ("damping", po::value(&damping)->default_value("identity"), "LM damping: identity (lambda I) or diagonal (lambda diag(H))");
+  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+      "output,o", po::value(&output), "write the optimised graph here (atomically)")(
+      "iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")(
+      "algorithm", po::value(&algorithm)->default_value("auto"),
+      "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm "
+      "(Levenberg-Marquardt)")("solver", po::value(&solver)->default_value("eigen-ldlt"),
+                               "linear solver (see graphslam list-solvers)")(
+      "plugin", po::value(&plugins)->composing(),
+      "load types/solvers from this shared library (repeatable)")(
+      "stats", po::value(&stats_file), "write per-iteration statistics as CSV")(
+      "init", po::value(&init)->default_value("global"),
+      "initial guess: none (the file's estimates) or global (SE(2) orientations, then positions, "
+      "by linear least squares)")("quiet,q", "print only the summary")(
+      "step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance),
+      "converged when the Euclidean norm of the update is below this")(
+      "function-tolerance",
+      po::value(&options.function_tolerance)->default_value(options.function_tolerance),
+      "converged when chi2 falls by less than this fraction (0: off)")(
+      "lambda-init",
+      po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor),
+      "LM initial damping factor")(
+      "lambda-decrease",
+      po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
+      "LM: largest shrink of lambda after a good step (factor)")(
+      "damping", po::value(&damping)->default_value("identity"),
+      "LM damping: identity (lambda I) or diagonal (lambda diag(H))");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
@@ -97,14 +110,16 @@ int cmdOptimize(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, plugins);
   if (!reg.solvers.contains(solver)) {
-    throw UsageError("unknown solver '" + solver + "' (graphslam list-solvers shows the known ones)");
+    throw UsageError("unknown solver '" + solver +
+                     "' (graphslam list-solvers shows the known ones)");
   }
 
   Graph graph;
   if (input.empty()) {
     types_slam2d::ManhattanOptions sim;
-    std::cout << "no input given: optimising the built-in default graph (simulated Manhattan world, "
-              << sim.num_poses << " poses, seed " << sim.seed << ")\n";
+    std::cout
+        << "no input given: optimising the built-in default graph (simulated Manhattan world, "
+        << sim.num_poses << " poses, seed " << sim.seed << ")\n";
     auto simulated = types_slam2d::simulateManhattan(sim);
     graph = std::move(simulated.graph);
   } else {
@@ -121,8 +136,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
     if (!r.message.empty()) {
       std::cout << "initialisation: " << r.message << "\n";
     } else {
-      std::printf("initialisation: global, %zu poses and %zu landmarks placed (%zu angles unwrapped) in %.4f s\n",
-                  r.poses, r.landmarks, r.wrapped_edges, r.seconds);
+      std::printf(
+          "initialisation: global, %zu poses and %zu landmarks placed (%zu angles unwrapped) in "
+          "%.4f s\n",
+          r.poses, r.landmarks, r.wrapped_edges, r.seconds);
     }
   } else if (init != "none") {
     throw UsageError("--init must be none or global, not '" + init + "'");
@@ -132,15 +149,16 @@ int cmdOptimize(const std::vector<std::string>& args) {
   std::vector<std::string> csv;
   options.callback = [&](const IterationStats& s) {
     if (!quiet) {
-      std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration, s.chi2,
-                  s.lambda, s.step_norm, s.time.total(), s.accepted ? "" : "  (rejected)");
+      std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
+                  s.chi2, s.lambda, s.step_norm, s.time.total(), s.accepted ? "" : "  (rejected)");
       std::fflush(stdout);
     }
     csv.push_back(csvLine(s));
   };
   setLogLevel(LogLevel::kInfo);
   setLogSink([](LogLevel level, const std::string& msg) {
-    std::fprintf(level >= LogLevel::kWarning ? stderr : stdout, "%s: %s\n", toString(level), msg.c_str());
+    std::fprintf(level >= LogLevel::kWarning ? stderr : stdout, "%s: %s\n", toString(level),
+                 msg.c_str());
   });
   Optimizer optimizer(graph, reg.solvers, options);
   const Summary summary = optimizer.optimize();
@@ -154,7 +172,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
     });
   }
   if (!summary.succeeded() && summary.status != TerminationStatus::kNoProgress) {
-    std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message << "\n";
+    std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message
+              << "\n";
     if (!output.empty()) std::cerr << "not writing " << output << "\n";
     return kExitFailed;
   }
@@ -172,8 +191,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
 bool parseListing(const std::vector<std::string>& args, const char* usage, Registries& reg) {
   std::vector<std::string> plugins;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")(
-      "plugin", po::value(&plugins)->composing(), "also load this plugin (repeatable)");
+  desc.add_options()("help,h", "show this help")("plugin", po::value(&plugins)->composing(),
+                                                 "also load this plugin (repeatable)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(usage, desc);
@@ -185,7 +204,10 @@ bool parseListing(const std::vector<std::string>& args, const char* usage, Regis
 
 int cmdListTypes(const std::vector<std::string>& args) {
   Registries reg;
-  if (!parseListing(args, "usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.", reg)) {
+  if (!parseListing(
+          args,
+          "usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.",
+          reg)) {
     return kExitOk;
   }
   for (const auto* e : reg.types.entries()) {
@@ -205,7 +227,10 @@ int cmdListTypes(const std::vector<std::string>& args) {
 
 int cmdListSolvers(const std::vector<std::string>& args) {
   Registries reg;
-  if (!parseListing(args, "usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers this build knows.", reg)) {
+  if (!parseListing(args,
+                    "usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers "
+                    "this build knows.",
+                    reg)) {
     return kExitOk;
   }
   for (const auto* e : reg.solvers.entries()) {
@@ -221,18 +246,21 @@ int cmdSimulate(const std::vector<std::string>& args) {
   std::string output, truth;
   types_slam2d::ManhattanOptions sim;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")
-      ("output,o", po::value(&output), "write the graph (odometry initial guess) here")
-      ("truth", po::value(&truth), "write the ground truth graph (same edges, true vertices) here")
-      ("poses", po::value(&sim.num_poses)->default_value(sim.num_poses), "number of poses")
-      ("landmarks", po::value(&sim.num_landmarks)->default_value(0), "number of landmarks")
-      ("seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")
-      ("world-size", po::value(&sim.world_size)->default_value(0), "side of the square world in grid cells (0: automatic)");
+  desc.add_options()("help,h", "show this help")("output,o", po::value(&output),
+                                                 "write the graph (odometry initial guess) here")(
+      "truth", po::value(&truth), "write the ground truth graph (same edges, true vertices) here")(
+      "poses", po::value(&sim.num_poses)->default_value(sim.num_poses), "number of poses")(
+      "landmarks", po::value(&sim.num_landmarks)->default_value(0), "number of landmarks")(
+      "seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")(
+      "world-size", po::value(&sim.world_size)->default_value(0),
+      "side of the square world in grid cells (0: automatic)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
-    printHelp("usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed S]\n"
-              "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks.",
-              desc);
+    printHelp(
+        "usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed "
+        "S]\n"
+        "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks.",
+        desc);
     return kExitOk;
   }
   if (output.empty()) throw UsageError("simulate needs -o OUT.g2o");
@@ -242,11 +270,12 @@ int cmdSimulate(const std::vector<std::string>& args) {
   auto result = types_slam2d::simulateManhattan(sim);
   io::saveG2o(output, result.graph, reg.types);
   std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
-            << result.graph.numEdges() << " edges (" << result.num_loop_closures << " loop closures, "
-            << result.num_observations << " landmark observations)\n";
+            << result.graph.numEdges() << " edges (" << result.num_loop_closures
+            << " loop closures, " << result.num_observations << " landmark observations)\n";
   if (!truth.empty()) {
     for (int i = 0; i < sim.num_poses; ++i) {
-      static_cast<types_slam2d::VertexSE2*>(result.graph.vertex(i))->setEstimate(result.true_poses[i]);
+      static_cast<types_slam2d::VertexSE2*>(result.graph.vertex(i))
+          ->setEstimate(result.true_poses[i]);
     }
     for (std::size_t k = 0; k < result.true_landmarks.size(); ++k) {
       static_cast<types_slam2d::VertexXY*>(result.graph.vertex(sim.num_poses + static_cast<int>(k)))
@@ -300,10 +329,12 @@ int main(int argc, char** argv) {
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {
-    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command << " --help)\n";
+    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command
+              << " --help)\n";
     return kExitBadInput;
   } catch (const UsageError& e) {
-    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command << " --help)\n";
+    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command
+              << " --help)\n";
     return kExitBadInput;
   } catch (const Error& e) {
     std::cerr << "graphslam " << command << ": " << e.what() << "\n";

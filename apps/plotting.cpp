@@ -55,8 +55,9 @@ std::string findPlotPython() {
 void runPlotScript(const std::string& script, const std::vector<std::string>& args) {
   const std::string python = findPlotPython();
   if (python.empty()) {
-    throw Error("plotting needs Python 3 with matplotlib, and none was found (tried $GRAPHSLAM_PYTHON, "
-                "/usr/bin/python3, python3): install it with 'apt-get install python3-matplotlib'");
+    throw Error(
+        "plotting needs Python 3 with matplotlib, and none was found (tried $GRAPHSLAM_PYTHON, "
+        "/usr/bin/python3, python3): install it with 'apt-get install python3-matplotlib'");
   }
   std::vector<std::string> argv{python, plotDir() + "/" + script};
   argv.insert(argv.end(), args.begin(), args.end());

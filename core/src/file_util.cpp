@@ -12,13 +12,13 @@
 
 namespace graphslam {
 
-void writeFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& write) {
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) throw Error("cannot write '" + path + "': cannot create temporary file '" + tmp + "'");
+      if (!out)
+        throw Error("cannot write '" + path + "': cannot create temporary file '" + tmp + "'");
       write(out);
       out.flush();
       if (!out) throw Error("cannot write '" + path + "': write error");

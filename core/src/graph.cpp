@@ -118,8 +118,8 @@ bool Graph::removeEdge(const Edge* edge) {
 
 std::size_t Graph::removeEdges(const std::function<bool(const Edge&)>& pred) {
   std::size_t removed = 0;
-  auto keep_end = std::stable_partition(edges_.begin(), edges_.end(),
-                                        [&pred](const std::unique_ptr<Edge>& e) { return !pred(*e); });
+  auto keep_end = std::stable_partition(
+      edges_.begin(), edges_.end(), [&pred](const std::unique_ptr<Edge>& e) { return !pred(*e); });
   for (auto it = keep_end; it != edges_.end(); ++it) {
     Edge* e = it->get();
     for (Vertex* v : e->vertices_) {

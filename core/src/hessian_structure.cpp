@@ -75,7 +75,8 @@ void HessianStructure::build(Graph& graph) {
       len += block_starts_[r + 1] - block_starts_[r];
     }
     col_len[j] = len;
-    nnz += static_cast<std::size_t>(len) * static_cast<std::size_t>(block_starts_[j + 1] - block_starts_[j]);
+    nnz += static_cast<std::size_t>(len) *
+           static_cast<std::size_t>(block_starts_[j + 1] - block_starts_[j]);
   }
   col_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
   row_idx_.clear();
@@ -83,7 +84,8 @@ void HessianStructure::build(Graph& graph) {
   diag_pos_.assign(static_cast<std::size_t>(n_), 0);
   for (int j = 0; j < nb; ++j) {
     const int dj = block_starts_[j + 1] - block_starts_[j];
-    const auto diag_at = std::lower_bound(rows_of[j].begin(), rows_of[j].end(), j) - rows_of[j].begin();
+    const auto diag_at =
+        std::lower_bound(rows_of[j].begin(), rows_of[j].end(), j) - rows_of[j].begin();
     for (int k = 0; k < dj; ++k) {
       const int c = block_starts_[j] + k;
       col_ptr_[c + 1] = col_ptr_[c] + col_len[j];

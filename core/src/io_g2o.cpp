@@ -15,9 +15,7 @@
 
 namespace graphslam::io {
 
-std::string Diagnostic::str() const {
-  return file + ":" + std::to_string(line) + ": " + message;
-}
+std::string Diagnostic::str() const { return file + ":" + std::to_string(line) + ": " + message; }
 
 namespace {
 
@@ -62,7 +60,8 @@ VertexId parseId(std::string_view token, std::size_t index, std::string_view tag
   long long value = 0;
   auto res = std::from_chars(token.data(), token.data() + token.size(), value);
   if (res.ec != std::errc() || res.ptr != token.data() + token.size() ||
-      value < std::numeric_limits<VertexId>::min() || value > std::numeric_limits<VertexId>::max()) {
+      value < std::numeric_limits<VertexId>::min() ||
+      value > std::numeric_limits<VertexId>::max()) {
     throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
                     " is not a vertex id (an integer)"};
   }
@@ -93,7 +92,8 @@ class Reader {
     for (const auto& [line_of_fix, id] : fixes_) {
       Vertex* v = result_.graph.vertex(id);
       if (!v) {
-        if (!report(line_of_fix, "FIX: vertex " + std::to_string(id) + " is not defined in the file"))
+        if (!report(line_of_fix,
+                    "FIX: vertex " + std::to_string(id) + " is not defined in the file"))
           return std::move(result_);
         continue;
       }
@@ -135,7 +135,8 @@ class Reader {
       if (found != expected) throw LineError{countMessage(tag, expected, found)};
       const VertexId id = parseId(tokens[1], 1, tag);
       values_.resize(expected - 1);
-      for (std::size_t i = 0; i + 1 < expected; ++i) values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
+      for (std::size_t i = 0; i + 1 < expected; ++i)
+        values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
       if (auto it = vertex_lines_.find(id); it != vertex_lines_.end()) {
         throw LineError{tag + ": duplicate vertex id " + std::to_string(id) +
                         " (first defined on line " + std::to_string(it->second) + ")"};
@@ -153,7 +154,8 @@ class Reader {
     std::size_t num_ids = 0;
     if (e->arity() > 0) {
       num_ids = static_cast<std::size_t>(e->arity());
-      if (found != num_ids + meas + info) throw LineError{countMessage(tag, num_ids + meas + info, found)};
+      if (found != num_ids + meas + info)
+        throw LineError{countMessage(tag, num_ids + meas + info, found)};
     } else {
       if (found < 1 + meas + info) {
         throw LineError{tag + " expects at least " + std::to_string(1 + meas + info) +
@@ -237,7 +239,8 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
   std::string line;
   for (const auto& [id, v] : graph.vertices()) {
     const std::string* tag = types.tagOf(*v);
-    if (!tag) throw Error("cannot write vertex " + std::to_string(id) + ": its type is not registered");
+    if (!tag)
+      throw Error("cannot write vertex " + std::to_string(id) + ": its type is not registered");
     data.resize(static_cast<std::size_t>(v->estimateDataDimension()));
     v->getEstimateData(data.data());
     line = *tag + ' ' + std::to_string(id);
@@ -249,8 +252,9 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
   }
   for (const auto& e : graph.edges()) {
     const std::string* tag = types.tagOf(*e);
-    if (!tag) throw Error("cannot write an edge on vertex " + std::to_string(e->vertexId(0)) +
-                          ": its type is not registered");
+    if (!tag)
+      throw Error("cannot write an edge on vertex " + std::to_string(e->vertexId(0)) +
+                  ": its type is not registered");
     line = *tag;
     for (VertexId id : e->vertexIds()) line += ' ' + std::to_string(id);
     data.resize(static_cast<std::size_t>(e->measurementDataDimension()));

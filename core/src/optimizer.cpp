@@ -15,20 +15,28 @@ namespace graphslam {
 
 const char* toString(Algorithm algorithm) {
   switch (algorithm) {
-    case Algorithm::kGaussNewton: return "gauss-newton";
-    case Algorithm::kLevenbergMarquardt: return "levenberg-marquardt";
-    case Algorithm::kGaussNewtonFallback: return "gauss-newton with lm fallback";
+    case Algorithm::kGaussNewton:
+      return "gauss-newton";
+    case Algorithm::kLevenbergMarquardt:
+      return "levenberg-marquardt";
+    case Algorithm::kGaussNewtonFallback:
+      return "gauss-newton with lm fallback";
   }
   return "?";
 }
 
 const char* toString(TerminationStatus status) {
   switch (status) {
-    case TerminationStatus::kConverged: return "converged";
-    case TerminationStatus::kMaxIterations: return "maximum iterations reached";
-    case TerminationStatus::kNoProgress: return "no progress";
-    case TerminationStatus::kNumericalFailure: return "numerical failure";
-    case TerminationStatus::kUnderDetermined: return "under-determined";
+    case TerminationStatus::kConverged:
+      return "converged";
+    case TerminationStatus::kMaxIterations:
+      return "maximum iterations reached";
+    case TerminationStatus::kNoProgress:
+      return "no progress";
+    case TerminationStatus::kNumericalFailure:
+      return "numerical failure";
+    case TerminationStatus::kUnderDetermined:
+      return "under-determined";
   }
   return "?";
 }
@@ -137,7 +145,10 @@ struct Optimizer::Impl {
 };
 
 Optimizer::Optimizer(Graph& graph, const SolverRegistry& solvers, Options options)
-    : graph_(graph), solvers_(solvers), options_(std::move(options)), impl_(std::make_unique<Impl>()) {
+    : graph_(graph),
+      solvers_(solvers),
+      options_(std::move(options)),
+      impl_(std::make_unique<Impl>()) {
   impl_->solver = solvers_.create(options_.linear_solver);
   impl_->solver_name = options_.linear_solver;
 }
@@ -175,7 +186,8 @@ Summary Optimizer::optimize() {
         gauge_fixed.push_back(v.get());
         summary.gauge_fixed.push_back(id);
         log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
-                                 std::to_string(id) + " (the lowest id) to remove the gauge freedom");
+                                 std::to_string(id) +
+                                 " (the lowest id) to remove the gauge freedom");
         break;
       }
     }
@@ -231,8 +243,10 @@ Summary Optimizer::optimize() {
     for (const auto& group : summary.unanchored) {
       std::string ids;
       for (VertexId id : group) ids += " " + std::to_string(id);
-      log(LogLevel::kWarning, "vertices with no anchor (no fixed vertex, no prior) — their "
-                              "position is undetermined:" + ids);
+      log(LogLevel::kWarning,
+          "vertices with no anchor (no fixed vertex, no prior) — their "
+          "position is undetermined:" +
+              ids);
     }
   }
 
@@ -311,8 +325,9 @@ Summary Optimizer::optimize() {
         max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
       }
       if (lambda < 0) {
-        lambda = options_.initial_lambda_factor *
-                 (options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0);
+        lambda =
+            options_.initial_lambda_factor *
+            (options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0);
         nu = 2.0;
       }
       if (options_.damping == Options::Damping::kDiagonal) {
@@ -335,7 +350,8 @@ Summary Optimizer::optimize() {
       ++attempts;
       used_lambda = damped ? lambda : 0.0;
       if (damped) {
-        for (int i = 0; i < n; ++i) im.values[diag[i]] = im.saved_diag[i] + lambda * im.damping_diag[i];
+        for (int i = 0; i < n; ++i)
+          im.values[diag[i]] = im.saved_diag[i] + lambda * im.damping_diag[i];
       }
       auto tf0 = Clock::now();
       LinearSolverResult r = im.solver->factorize(im.values.data());
@@ -433,9 +449,11 @@ Summary Optimizer::optimize() {
     chi2 = new_chi2;
     if (options_.callback) options_.callback(st);
     if (stop) break;
-    const bool small_change = options_.function_tolerance > 0 &&
-                              std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
-    if ((small_change || step < options_.step_tolerance) && !(fallback && !damped && chi2 > best_chi2)) {
+    const bool small_change =
+        options_.function_tolerance > 0 &&
+        std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
+    if ((small_change || step < options_.step_tolerance) &&
+        !(fallback && !damped && chi2 > best_chi2)) {
       summary.status = TerminationStatus::kConverged;
       break;
     }

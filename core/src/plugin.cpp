@@ -24,8 +24,8 @@ std::unique_ptr<Plugin> Plugin::load(const std::string& path, TypeRegistry& type
   impl->library.load(path, boost::dll::load_mode::default_mode, ec);
   if (ec) throw Error("plugin '" + path + "': cannot load: " + ec.message());
   if (!impl->library.has(GRAPHSLAM_PLUGIN_ENTRY)) {
-    throw Error("plugin '" + path + "': no symbol '" GRAPHSLAM_PLUGIN_ENTRY
-                "' (declare it extern \"C\")");
+    throw Error("plugin '" + path +
+                "': no symbol '" GRAPHSLAM_PLUGIN_ENTRY "' (declare it extern \"C\")");
   }
   auto& entry = impl->library.get<PluginRegisterFunction>(GRAPHSLAM_PLUGIN_ENTRY);
   types.setOrigin(path);

@@ -79,10 +79,14 @@ std::vector<const TypeRegistry::Entry*> TypeRegistry::entries() const {
 
 const char* toString(LinearSolverStatus status) {
   switch (status) {
-    case LinearSolverStatus::kSuccess: return "success";
-    case LinearSolverStatus::kNotPositiveDefinite: return "not positive definite";
-    case LinearSolverStatus::kSingular: return "singular";
-    case LinearSolverStatus::kFailure: return "failure";
+    case LinearSolverStatus::kSuccess:
+      return "success";
+    case LinearSolverStatus::kNotPositiveDefinite:
+      return "not positive definite";
+    case LinearSolverStatus::kSingular:
+      return "singular";
+    case LinearSolverStatus::kFailure:
+      return "failure";
   }
   return "unknown";
 }
@@ -100,8 +104,8 @@ std::unique_ptr<LinearSolver> SolverRegistry::create(const std::string& name) co
   if (it == entries_.end()) {
     std::string known;
     for (const auto& [n, e] : entries_) known += (known.empty() ? "" : ", ") + n;
-    throw RegistryError("unknown linear solver '" + name + "' (known: " +
-                        (known.empty() ? "none" : known) + ")");
+    throw RegistryError("unknown linear solver '" + name +
+                        "' (known: " + (known.empty() ? "none" : known) + ")");
   }
   return it->second.factory();
 }

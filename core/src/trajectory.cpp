@@ -134,7 +134,8 @@ double Trajectory::pathLength() const {
 }
 
 void Trajectory::transform(const Eigen::Isometry3d& t, bool right_mul) {
-  for (auto& pose : poses_) pose = right_mul ? Eigen::Isometry3d(pose * t) : Eigen::Isometry3d(t * pose);
+  for (auto& pose : poses_)
+    pose = right_mul ? Eigen::Isometry3d(pose * t) : Eigen::Isometry3d(t * pose);
 }
 
 void Trajectory::scale(double s) {
@@ -209,7 +210,8 @@ Trajectory readKitti(std::istream& in, const std::string& source_name) {
     if (!(orthogonality <= kRotationTolerance) || rotation.determinant() <= 0.0) {
       fail(source_name, line_no,
            "rotation block is not a rotation matrix (max |R^T R - I| = " +
-               formatNumber(orthogonality) + ", det = " + formatNumber(rotation.determinant()) + ")");
+               formatNumber(orthogonality) + ", det = " + formatNumber(rotation.determinant()) +
+               ")");
     }
     trajectory.append(static_cast<double>(trajectory.size()), pose);
   });

@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/core/trajectory_metrics.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <string>
-
-#include <Eigen/SVD>
 
 namespace graphslam {
 namespace {
@@ -105,8 +104,7 @@ std::vector<IdPair> pairsByAngle(const std::vector<Eigen::Isometry3d>& poses, do
   if (all_pairs) {
     for (std::size_t i = 0; i + 1 < n; ++i) {
       for (std::size_t j = i + 1; j < n; ++j) {
-        const double angle =
-            rotationAngle(poses[i].linear().transpose() * poses[j].linear());
+        const double angle = rotationAngle(poses[i].linear().transpose() * poses[j].linear());
         if (delta - tol <= angle && angle <= delta + tol) pairs.emplace_back(i, j);
       }
     }
@@ -214,8 +212,8 @@ UmeyamaResult umeyamaAlignment(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd
   const Eigen::Vector3d mean_y = y.rowwise().mean();
   const Eigen::Matrix3Xd xc = x.colwise() - mean_x;
   const Eigen::Matrix3Xd yc = y.colwise() - mean_y;
-  const double sigma_x = xc.squaredNorm() / n;                // eq. 36
-  const Eigen::Matrix3d cov_xy = (yc * xc.transpose()) / n;   // eq. 38
+  const double sigma_x = xc.squaredNorm() / n;               // eq. 36
+  const Eigen::Matrix3d cov_xy = (yc * xc.transpose()) / n;  // eq. 38
 
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov_xy, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Eigen::Vector3d d = svd.singularValues();
@@ -226,9 +224,9 @@ UmeyamaResult umeyamaAlignment(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd
   if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0.0) s(2, 2) = -1.0;  // eq. 43
 
   UmeyamaResult result;
-  result.rotation = svd.matrixU() * s * svd.matrixV().transpose();  // eq. 40
+  result.rotation = svd.matrixU() * s * svd.matrixV().transpose();           // eq. 40
   result.scale = with_scale ? (d.asDiagonal() * s).trace() / sigma_x : 1.0;  // eq. 42
-  result.translation = mean_y - result.scale * (result.rotation * mean_x);  // eq. 41
+  result.translation = mean_y - result.scale * (result.rotation * mean_x);   // eq. 41
   return result;
 }
 
@@ -359,7 +357,8 @@ std::vector<IdPair> idPairsFromDelta(const std::vector<Eigen::Isometry3d>& poses
     case DeltaUnit::kRadians:
     case DeltaUnit::kDegrees: {
       const double bound = unit == DeltaUnit::kDegrees ? 180.0 : kPi;
-      if (delta > bound) throw Error("RPE: delta angle must be within [0, " + std::to_string(bound) + "]");
+      if (delta > bound)
+        throw Error("RPE: delta angle must be within [0, " + std::to_string(bound) + "]");
       const double to_rad = unit == DeltaUnit::kDegrees ? kPi / 180.0 : 1.0;
       pairs = pairsByAngle(poses, delta * to_rad, delta * rel_tol * to_rad, all_pairs);
       break;

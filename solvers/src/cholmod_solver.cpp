@@ -18,7 +18,8 @@ namespace {
 /// optimizer's CSC arrays (upper triangle, stype = 1).
 class CholmodSolver final : public LinearSolver {
  public:
-  CholmodSolver(std::string name, bool supernodal) : name_(std::move(name)), supernodal_(supernodal) {
+  CholmodSolver(std::string name, bool supernodal)
+      : name_(std::move(name)), supernodal_(supernodal) {
     cholmod_start(&common_);
     common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
@@ -56,9 +57,9 @@ class CholmodSolver final : public LinearSolver {
     perm_ = detail::blockAmdOrdering(s);
     factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
-      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                         "cholmod_analyze failed (status " +
-                                             std::to_string(common_.status) + ")");
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "cholmod_analyze failed (status " + std::to_string(common_.status) + ")");
     }
     b_ = cholmod_allocate_dense(a_.nrow, 1, a_.nrow, CHOLMOD_REAL, &common_);
     return LinearSolverResult::success();
@@ -79,17 +80,19 @@ class CholmodSolver final : public LinearSolver {
                                          "matrix is not positive definite", col);
     }
     if (!ok || common_.status < CHOLMOD_OK) {
-      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                         "cholmod_factorize failed (status " +
-                                             std::to_string(common_.status) + ")");
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "cholmod_factorize failed (status " + std::to_string(common_.status) + ")");
     }
     return LinearSolverResult::success();
   }
 
   LinearSolverResult solve(const double* rhs, double* x) override {
-    if (!factor_ || !b_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
+    if (!factor_ || !b_)
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
     std::memcpy(b_->x, rhs, sizeof(double) * static_cast<std::size_t>(n_));
-    const int ok = cholmod_solve2(CHOLMOD_A, factor_, b_, nullptr, &x_, nullptr, &y_, &e_, &common_);
+    const int ok =
+        cholmod_solve2(CHOLMOD_A, factor_, b_, nullptr, &x_, nullptr, &y_, &e_, &common_);
     if (!ok || !x_) {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "cholmod_solve failed");
     }
@@ -154,8 +157,9 @@ bool haveCholmod() { return true; }
 void registerCholmodSolvers(SolverRegistry& registry) {
   registry.registerSolver("cholmod", "CHOLMOD supernodal Cholesky, block AMD ordering",
                           [] { return std::make_unique<CholmodSolver>("cholmod", true); });
-  registry.registerSolver("cholmod-simplicial", "CHOLMOD simplicial Cholesky, block AMD ordering",
-                          [] { return std::make_unique<CholmodSolver>("cholmod-simplicial", false); });
+  registry.registerSolver(
+      "cholmod-simplicial", "CHOLMOD simplicial Cholesky, block AMD ordering",
+      [] { return std::make_unique<CholmodSolver>("cholmod-simplicial", false); });
 }
 
 }  // namespace graphslam::solvers

@@ -31,9 +31,8 @@ class EigenSimplicialSolver final : public LinearSolver {
   }
 
   LinearSolverResult factorize(const double* values) override {
-    const Eigen::Map<const SpMat> a(structure_.n, structure_.n,
-                                    static_cast<int>(structure_.nnz()), structure_.col_ptr,
-                                    structure_.row_idx, values);
+    const Eigen::Map<const SpMat> a(structure_.n, structure_.n, static_cast<int>(structure_.nnz()),
+                                    structure_.col_ptr, structure_.row_idx, values);
     permuted_.resize(structure_.n, structure_.n);
     permuted_.template selfadjointView<Eigen::Upper>() =
         a.template selfadjointView<Eigen::Upper>().twistedBy(p_);
@@ -72,8 +71,9 @@ class EigenSimplicialSolver final : public LinearSolver {
  private:
   /// First pivot <= 0 mapped back to the original column (LDL^T only), else -1.
   int firstBadColumn() const {
-    if constexpr (std::is_same_v<Factorization,
-                                 Eigen::SimplicialLDLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>>>) {
+    if constexpr (std::is_same_v<
+                      Factorization,
+                      Eigen::SimplicialLDLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>>>) {
       const auto& d = factor_.vectorD();
       for (int k = 0; k < d.size(); ++k) {
         if (!(d[k] > 0.0)) return order_[k];
@@ -98,8 +98,9 @@ using Llt = Eigen::SimplicialLLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int
 }  // namespace
 
 void registerEigenSolvers(SolverRegistry& registry) {
-  registry.registerSolver("eigen-ldlt", "Eigen SimplicialLDLT, block AMD ordering",
-                          [] { return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt"); });
+  registry.registerSolver("eigen-ldlt", "Eigen SimplicialLDLT, block AMD ordering", [] {
+    return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt");
+  });
   registry.registerSolver("eigen-llt", "Eigen SimplicialLLT, block AMD ordering",
                           [] { return std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt"); });
 }

@@ -8,8 +8,9 @@ namespace graphslam::solvers {
 bool haveCholmod() { return false; }
 
 void registerCholmodSolvers(SolverRegistry& /*registry*/) {
-  throw RegistryError("graphslam was built without CHOLMOD (install libsuitesparse-dev and "
-                      "reconfigure with GRAPHSLAM_WITH_CHOLMOD=ON)");
+  throw RegistryError(
+      "graphslam was built without CHOLMOD (install libsuitesparse-dev and "
+      "reconfigure with GRAPHSLAM_WITH_CHOLMOD=ON)");
 }
 
 }  // namespace graphslam::solvers

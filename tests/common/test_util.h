@@ -28,7 +28,8 @@ inline bool fileExists(const std::string& path) { return std::ifstream(path).goo
 
 /// Central-difference Jacobian of `edge` for slot `slot`, by perturbing the vertex in
 /// place through its oplus (independent of the edge's own numeric default).
-inline Eigen::MatrixXd numericJacobian(Edge& edge, Vertex& v, std::size_t /*slot*/, double h = 1e-6) {
+inline Eigen::MatrixXd numericJacobian(Edge& edge, Vertex& v, std::size_t /*slot*/,
+                                       double h = 1e-6) {
   const int d = edge.dimension();
   Eigen::MatrixXd j(d, v.dimension());
   std::vector<double> delta(static_cast<std::size_t>(v.dimension()), 0.0);

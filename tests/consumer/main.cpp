@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
-// Builds a unit square of four SE(2) poses from a rough guess, optimises it and prints the final chi2.
-#include <cstdio>
-#include <memory>
-
+// Builds a unit square of four SE(2) poses from a rough guess, optimises it and prints the final
+// chi2.
 #include <graphslam/core/optimizer.h>
 #include <graphslam/solvers/register.h>
 #include <graphslam/types_slam2d/edge_se2.h>
 #include <graphslam/types_slam2d/register.h>
 #include <graphslam/types_slam2d/vertex_se2.h>
+
+#include <cstdio>
+#include <memory>
 
 int main() {
   using namespace graphslam;

@@ -42,7 +42,8 @@ class EdgeDisplacement final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexX
 };
 
 /// The same, written g2o style: overrides computeError() only.
-class EdgeDisplacementG2oStyle final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
+class EdgeDisplacementG2oStyle final
+    : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
  public:
   void computeError() override {
     mutableError() = (vertexXi<1>().estimate() - vertexXi<0>().estimate()) - measurement();
@@ -214,7 +215,8 @@ TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
     ASSERT_FALSE(r.ok()) << c.body;
     ASSERT_EQ(r.diagnostics.size(), 1u);
     EXPECT_EQ(r.diagnostics[0].line, c.line) << c.body;
-    EXPECT_NE(r.diagnostics[0].str().find("bad.g2o:" + std::to_string(c.line) + ": "), std::string::npos);
+    EXPECT_NE(r.diagnostics[0].str().find("bad.g2o:" + std::to_string(c.line) + ": "),
+              std::string::npos);
     EXPECT_NE(r.diagnostics[0].message.find(c.fragment), std::string::npos)
         << "got: " << r.diagnostics[0].message;
   }
@@ -223,7 +225,8 @@ TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
 TEST(Core_IoG2o, LenientModeSkipsAndCounts) {
   TypeRegistry types;
   types_slam2d::registerTypes(types);
-  std::istringstream in("VERTEX_SE2 0 0 0 0\nBOGUS 1\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+  std::istringstream in(
+      "VERTEX_SE2 0 0 0 0\nBOGUS 1\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
   io::LoadOptions opt;
   opt.strict = false;
   auto r = io::readG2o(in, "x.g2o", types, opt);
@@ -236,7 +239,8 @@ TEST(Core_IoG2o, LenientModeSkipsAndCounts) {
 TEST(Core_IoG2o, FixLinesRoundTrip) {
   TypeRegistry types;
   types_slam2d::registerTypes(types);
-  std::istringstream in("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0.1\nFIX 1\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+  std::istringstream in(
+      "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0.1\nFIX 1\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
   auto r = io::readG2o(in, "x.g2o", types);
   ASSERT_TRUE(r.ok());
   EXPECT_TRUE(r.graph.vertex(1)->fixed());
@@ -252,10 +256,11 @@ TEST(Core_IoG2o, FixLinesRoundTrip) {
 TEST(Core_IoG2o, AtomicWriteLeavesNoPartialFile) {
   const std::string path = ::testing::TempDir() + "atomic_out.g2o";
   std::remove(path.c_str());
-  EXPECT_THROW(writeFileAtomically(path, [](std::ostream& out) {
-                 out << "half a line";
-                 throw Error("simulated failure");
-               }),
+  EXPECT_THROW(writeFileAtomically(path,
+                                   [](std::ostream& out) {
+                                     out << "half a line";
+                                     throw Error("simulated failure");
+                                   }),
                Error);
   EXPECT_FALSE(test::fileExists(path));
   writeFileAtomically(path, [](std::ostream& out) { out << "ok\n"; });
@@ -293,7 +298,8 @@ TEST_P(Core_Optimizer, LinearProblemSolvedExactlyInOneStep) {
   for (int i = 0; i + 1 < n; ++i) {
     addDisplacement<EdgeDisplacement>(g, i, i + 1, {1 + noise(rng), noise(rng)}, 1.0 + i % 3);
   }
-  for (int i = 0; i + 5 < n; i += 4) addDisplacement<EdgeDisplacement>(g, i, i + 5, {5 + noise(rng), noise(rng)}, 2.0);
+  for (int i = 0; i + 5 < n; i += 4)
+    addDisplacement<EdgeDisplacement>(g, i, i + 5, {5 + noise(rng), noise(rng)}, 2.0);
 
   // Dense reference: stack the whitened linear system.
   const int dim = 2 * n;
@@ -315,7 +321,8 @@ TEST_P(Core_Optimizer, LinearProblemSolvedExactlyInOneStep) {
     }
   }
   Eigen::VectorXd x0(dim);
-  for (int i = 0; i < n; ++i) x0.segment<2>(2 * i) = static_cast<VertexXY*>(g.vertex(i))->estimate();
+  for (int i = 0; i < n; ++i)
+    x0.segment<2>(2 * i) = static_cast<VertexXY*>(g.vertex(i))->estimate();
   const Eigen::VectorXd expected = x0 + H.ldlt().solve(-b);
 
   auto solvers = allSolvers();
@@ -348,7 +355,8 @@ TEST_P(Core_Optimizer, NoiseFreePoseGraphRecoversTruth) {
       v->setId(i);
       v->setEstimate(i == 0 ? truth[0]
                             : SE2(truth[i].translation().x() + noise(rng),
-                                  truth[i].translation().y() + noise(rng), truth[i].angle() + noise(rng)));
+                                  truth[i].translation().y() + noise(rng),
+                                  truth[i].angle() + noise(rng)));
       g.addVertex(std::move(v));
     }
     auto link = [&](int i, int j) {
@@ -379,7 +387,8 @@ TEST_P(Core_Optimizer, NoiseFreePoseGraphRecoversTruth) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllSolvers, Core_Optimizer,
-                         ::testing::Values("eigen-ldlt", "eigen-llt", "cholmod", "cholmod-simplicial"));
+                         ::testing::Values("eigen-ldlt", "eigen-llt", "cholmod",
+                                           "cholmod-simplicial"));
 
 TEST(Core_OptimizerDiagnostics, UnanchoredComponentAndFailureNameVertices) {
   Graph g;

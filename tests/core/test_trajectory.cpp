@@ -3,6 +3,8 @@
 // Reference numbers for the ShanghaiTech SLAM 2024 homework 1 are those of
 // shared/SEEDS.md section 3 (evo APE, 12 poses, 13th dropped).
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,8 +12,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "graphslam/core/error.h"
 #include "graphslam/core/trajectory.h"
@@ -48,10 +48,10 @@ std::string homeworkFile(const std::string& name) {
   return root.empty() ? std::string() : root + "/" + kHomeworkDir + "/" + name;
 }
 
-#define GRAPHSLAM_REQUIRE_HOMEWORK_DATA(path_var, name)                                     \
-  const std::string path_var = homeworkFile(name);                                          \
-  if (path_var.empty() || !fileExists(path_var)) {                                          \
-    GTEST_SKIP() << "homework data " << (name) << " not found; set GRAPHSLAM_DATA to the "  \
+#define GRAPHSLAM_REQUIRE_HOMEWORK_DATA(path_var, name)                                    \
+  const std::string path_var = homeworkFile(name);                                         \
+  if (path_var.empty() || !fileExists(path_var)) {                                         \
+    GTEST_SKIP() << "homework data " << (name) << " not found; set GRAPHSLAM_DATA to the " \
                  << "datasets folder (containing " << kHomeworkDir << ")";                 \
   }
 
@@ -68,8 +68,8 @@ Trajectory circleGroundTruth() {
 /// The Gauss-Newton optimised poses of SEEDS.md section 3 (6 decimals).
 Trajectory optimisedPoses() {
   Eigen::Matrix3Xd p(3, 12);
-  p << 0.0, -0.142843, -0.484483, -0.958422, -1.507941, -1.929261, -2.072789, -1.901761,
-      -1.498456, -0.965912, -0.491896, -0.127890,  //
+  p << 0.0, -0.142843, -0.484483, -0.958422, -1.507941, -1.929261, -2.072789, -1.901761, -1.498456,
+      -0.965912, -0.491896, -0.127890,  //
       0.0, 0.510642, 0.852230, 0.931622, 0.815206, 0.454785, -0.031202, -0.498165, -0.896772,
       -1.007422, -0.823690, -0.473351,  //
       0.0, 0.486148, 1.062447, 1.537147, 2.041180, 2.629051, -3.078287, -2.572021, -2.000082,
@@ -173,7 +173,9 @@ TEST(Core_Trajectory, BadInputThrowsWithFileAndLine) {
     });
   };
   EXPECT_EQ(tum("# c\n0 0 0 0 0 0 1\n").rfind("t.tum:2: expected 8 values", 0), 0U);
-  EXPECT_EQ(tum("0 0 0 0 0 0 0 1\n1 0 x 0 0 0 0 1\n").rfind("t.tum:2: token 3 'x' is not a number", 0), 0U);
+  EXPECT_EQ(
+      tum("0 0 0 0 0 0 0 1\n1 0 x 0 0 0 0 1\n").rfind("t.tum:2: token 3 'x' is not a number", 0),
+      0U);
   EXPECT_EQ(tum("0 nan 0 0 0 0 0 1\n").rfind("t.tum:1: token 2 'nan' is not finite", 0), 0U);
   EXPECT_EQ(tum("0 0 0 inf 0 0 0 1\n").rfind("t.tum:1: token 4 'inf' is not finite", 0), 0U);
   EXPECT_EQ(tum("0 0 0 0 0 0 0 1.1\n").rfind("t.tum:1: quaternion norm", 0), 0U);
@@ -289,7 +291,8 @@ TEST(Core_Trajectory, StatisticsMatchNumpy) {
 TEST(Core_Trajectory, KnownRigidOffset) {
   const Trajectory ref = helix(30);
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
-  offset.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  offset.linear() =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   offset.translation() << 0.5, -1.0, 2.0;
 
   // Pure translation: every unaligned translation error equals the offset length.

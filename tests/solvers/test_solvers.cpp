@@ -168,7 +168,8 @@ std::vector<std::string> registeredSolvers() {
 INSTANTIATE_TEST_SUITE_P(Registered, Solvers_Conformance, ::testing::ValuesIn(registeredSolvers()),
                          [](const auto& info) {
                            std::string s = info.param;
-                           for (char& c : s) if (c == '-') c = '_';
+                           for (char& c : s)
+                             if (c == '-') c = '_';
                            return s;
                          });
 

@@ -128,7 +128,8 @@ TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesBuiltInNumericDefault) {
     for (std::size_t s = 0; s < e->numVertices(); ++s) {
       const Eigen::Map<const Eigen::MatrixXd> numeric(e->jacobianData(s), e->dimension(),
                                                       e->vertex(s)->dimension());
-      EXPECT_LT((numeric - analytic[s]).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, analytic[s].cwiseAbs().maxCoeff()))
+      EXPECT_LT((numeric - analytic[s]).cwiseAbs().maxCoeff(),
+                1e-6 * std::max(1.0, analytic[s].cwiseAbs().maxCoeff()))
           << "slot " << s;
     }
   }
@@ -290,9 +291,11 @@ TEST(TypesSlam2d_Simulator, SeededAndConsistentWithTruth) {
             static_cast<const VertexSE2*>(a.graph.vertex(299))->estimate().toVector());
   // chi2 at the ground truth is about the number of measurement dimensions.
   Graph& g = a.graph;
-  for (int i = 0; i < o.num_poses; ++i) static_cast<VertexSE2*>(g.vertex(i))->setEstimate(a.true_poses[i]);
+  for (int i = 0; i < o.num_poses; ++i)
+    static_cast<VertexSE2*>(g.vertex(i))->setEstimate(a.true_poses[i]);
   for (int k = 0; k < o.num_landmarks; ++k) {
-    if (auto* v = g.vertex(o.num_poses + k)) static_cast<VertexXY*>(v)->setEstimate(a.true_landmarks[k]);
+    if (auto* v = g.vertex(o.num_poses + k))
+      static_cast<VertexXY*>(v)->setEstimate(a.true_landmarks[k]);
   }
   std::size_t dims = 0;
   for (const auto& e : g.edges()) dims += static_cast<std::size_t>(e->dimension());

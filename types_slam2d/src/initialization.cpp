@@ -27,7 +27,7 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 struct PoseNode {
   VertexSE2* vertex;
   std::vector<std::pair<const EdgeSE2*, int>> links;  // edge, index of the other pose
-  bool anchored = false;  // fixed vertex or prior
+  bool anchored = false;                              // fixed vertex or prior
 };
 
 /// Solves a symmetric positive definite sparse system; false on failure.
@@ -211,8 +211,12 @@ InitializationReport initializeGlobal(Graph& graph) {
           }
         }
       }
-      if (a >= 0) rhs.segment<2>(2 * a) += -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
-      if (b >= 0) rhs.segment<2>(2 * b) += w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
+      if (a >= 0)
+        rhs.segment<2>(2 * a) +=
+            -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
+      if (b >= 0)
+        rhs.segment<2>(2 * b) +=
+            w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
     };
     auto pos = [&](int i) { return poses[i].vertex->estimate().translation(); };
     for (int u = 0; u < n; ++u) {
@@ -220,7 +224,8 @@ InitializationReport initializeGlobal(Graph& graph) {
         if (edge->vertex(0) != poses[u].vertex) continue;
         const Eigen::Matrix2d r = rotation2(tree_theta[u]) * edge->measurement().rotation();
         const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
-        add(var[u], pos(u), var[v], pos(v), rotation2(tree_theta[u]) * edge->measurement().translation(), w);
+        add(var[u], pos(u), var[v], pos(v),
+            rotation2(tree_theta[u]) * edge->measurement().translation(), w);
       }
     }
     for (const EdgeSE2XY* obs : observations) {
@@ -237,7 +242,8 @@ InitializationReport initializeGlobal(Graph& graph) {
       if (var[i] < 0) continue;
       const Eigen::Matrix2d r = prior->measurement().rotation();
       const Eigen::Matrix2d w = r * prior->information().topLeftCorner<2, 2>() * r.transpose();
-      add(-1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(), prior->measurement().translation(), w);
+      add(-1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(),
+          prior->measurement().translation(), w);
     }
     SpMat a(2 * nt, 2 * nt);
     a.setFromTriplets(trip.begin(), trip.end());

@@ -15,13 +15,15 @@ Trajectory trajectoryFromGraph(const Graph& graph) {
   for (const auto& [id, v] : graph.vertices()) {
     if (const auto* pose = dynamic_cast<const VertexSE2*>(v.get())) {
       const SE2& x = pose->estimate();
-      out.append(static_cast<double>(id), se2ToIsometry3(x.translation().x(), x.translation().y(), x.angle()));
+      out.append(static_cast<double>(id),
+                 se2ToIsometry3(x.translation().x(), x.translation().y(), x.angle()));
     }
   }
   return out;
 }
 
-Graph poseGraphFromRelativePoses(const Eigen::Matrix3Xd& relative, const RelativePoseGraphOptions& options) {
+Graph poseGraphFromRelativePoses(const Eigen::Matrix3Xd& relative,
+                                 const RelativePoseGraphOptions& options) {
   const int columns = static_cast<int>(relative.cols());
   const int odometry = options.last_column_closes_loop ? columns - 1 : columns;
   if (odometry < 1) throw Error("poseGraphFromRelativePoses: needs at least two relative poses");
@@ -70,7 +72,8 @@ Trajectory deadReckonGraph(const Graph& graph) {
       }
       pose = pose * it->second->measurement();
     }
-    out.append(static_cast<double>(id), se2ToIsometry3(pose.translation().x(), pose.translation().y(), pose.angle()));
+    out.append(static_cast<double>(id),
+               se2ToIsometry3(pose.translation().x(), pose.translation().y(), pose.angle()));
   }
   return out;
 }

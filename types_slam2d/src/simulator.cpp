@@ -28,8 +28,8 @@ SimulatedGraph simulateManhattan(const ManhattanOptions& o) {
   if (!(o.sigma_xy > 0) || !(o.sigma_theta > 0) || !(o.sigma_landmark > 0)) {
     throw Error("simulateManhattan: noise standard deviations must be positive");
   }
-  const int size = o.world_size > 0 ? o.world_size
-                                    : std::max(4, static_cast<int>(std::sqrt(o.num_poses) / 2));
+  const int size =
+      o.world_size > 0 ? o.world_size : std::max(4, static_cast<int>(std::sqrt(o.num_poses) / 2));
   std::mt19937 rng(o.seed);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -100,7 +100,8 @@ SimulatedGraph simulateManhattan(const ManhattanOptions& o) {
       if (i - j >= o.min_loop_gap) candidates.push_back(j);
     }
     if (!candidates.empty() && uni(rng) < o.loop_probability) {
-      const int j = candidates[static_cast<std::size_t>(uni(rng) * candidates.size()) % candidates.size()];
+      const int j =
+          candidates[static_cast<std::size_t>(uni(rng) * candidates.size()) % candidates.size()];
       add_pose_edge(j, i, noisy_relative(out.true_poses[j], out.true_poses[i]));
       ++out.num_loop_closures;
     }
@@ -114,7 +115,8 @@ SimulatedGraph simulateManhattan(const ManhattanOptions& o) {
     for (int k = 0; k < o.num_landmarks; ++k) {
       const Eigen::Vector2d p(uni(rng) * size - 0.5, uni(rng) * size - 0.5);
       out.true_landmarks.push_back(p);
-      lm_cells[cellKey(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())))].push_back(k);
+      lm_cells[cellKey(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())))]
+          .push_back(k);
     }
     std::vector<bool> initialised(static_cast<std::size_t>(o.num_landmarks), false);
     const int reach = static_cast<int>(std::ceil(o.landmark_range));

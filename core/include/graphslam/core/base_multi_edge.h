@@ -70,14 +70,13 @@ class BaseMultiEdge : public Edge {
         if (ref.offset < 0) continue;
         const Eigen::MatrixXd block = JtW * jacobians_[b];
         if (!ref.transposed) {
-          Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>(t.hessian + ref.offset, block.rows(),
-                                                               block.cols(),
-                                                               Eigen::OuterStride<>(ref.stride)) += block;
+          Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
+              t.hessian + ref.offset, block.rows(), block.cols(),
+              Eigen::OuterStride<>(ref.stride)) += block;
         } else {
-          Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>(t.hessian + ref.offset, block.cols(),
-                                                               block.rows(),
-                                                               Eigen::OuterStride<>(ref.stride)) +=
-              block.transpose();
+          Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
+              t.hessian + ref.offset, block.cols(), block.rows(),
+              Eigen::OuterStride<>(ref.stride)) += block.transpose();
         }
       }
     }

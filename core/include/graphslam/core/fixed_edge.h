@@ -63,7 +63,8 @@ class FixedEdge : public Edge {
   FixedEdge() : Edge(D, kArity) {
     error_.setZero();
     information_.setIdentity();
-    detail::staticFor<kArity>([this](auto i) { std::get<decltype(i)::value>(jacobians_).setZero(); });
+    detail::staticFor<kArity>(
+        [this](auto i) { std::get<decltype(i)::value>(jacobians_).setZero(); });
   }
 
   [[nodiscard]] const Measurement& measurement() const { return measurement_; }

@@ -12,8 +12,8 @@
 namespace graphslam {
 
 enum class Algorithm {
-  kGaussNewton,          ///< undamped steps, always accepted
-  kLevenbergMarquardt,   ///< damped steps, Nielsen's lambda update (as g2o)
+  kGaussNewton,         ///< undamped steps, always accepted
+  kLevenbergMarquardt,  ///< damped steps, Nielsen's lambda update (as g2o)
   /// Gauss-Newton steps while they lower chi2; a step that does not is retried with LM
   /// damping, which then decays back to zero (Gauss-Newton with a trust-region fallback).
   kGaussNewtonFallback,
@@ -23,11 +23,11 @@ enum class Algorithm {
 
 /// How an optimisation ended.
 enum class TerminationStatus {
-  kConverged,          ///< relative chi2 decrease or step below tolerance
-  kMaxIterations,      ///< iteration budget used up
-  kNoProgress,         ///< LM could not find a decreasing step
-  kNumericalFailure,   ///< factorisation failed (singular / not positive definite) or NaN
-  kUnderDetermined,    ///< nothing to optimise or the system cannot be built
+  kConverged,         ///< relative chi2 decrease or step below tolerance
+  kMaxIterations,     ///< iteration budget used up
+  kNoProgress,        ///< LM could not find a decreasing step
+  kNumericalFailure,  ///< factorisation failed (singular / not positive definite) or NaN
+  kUnderDetermined,   ///< nothing to optimise or the system cannot be built
 };
 
 [[nodiscard]] const char* toString(TerminationStatus status);
@@ -44,14 +44,14 @@ struct TimeSplit {
 
 /// One outer iteration (one linearisation).
 struct IterationStats {
-  int iteration = 0;          ///< 1-based
-  double chi2 = 0.0;          ///< after the iteration's (accepted) step
-  double lambda = 0.0;        ///< damping used by the accepted step (0 for Gauss-Newton)
-  double step_norm = 0.0;     ///< Euclidean norm of the accepted update
-  int attempts = 1;           ///< factorisations this iteration (LM retries on rejection)
-  bool accepted = true;       ///< false when LM found no decreasing step
+  int iteration = 0;       ///< 1-based
+  double chi2 = 0.0;       ///< after the iteration's (accepted) step
+  double lambda = 0.0;     ///< damping used by the accepted step (0 for Gauss-Newton)
+  double step_norm = 0.0;  ///< Euclidean norm of the accepted update
+  int attempts = 1;        ///< factorisations this iteration (LM retries on rejection)
+  bool accepted = true;    ///< false when LM found no decreasing step
   TimeSplit time;
-  double elapsed = 0.0;       ///< since optimize() started
+  double elapsed = 0.0;  ///< since optimize() started
 };
 
 /// Result of Optimizer::optimize().
@@ -65,7 +65,7 @@ struct Summary {
   int iterations = 0;
   std::vector<IterationStats> per_iteration;
   TimeSplit time;
-  double total_time = 0.0;  ///< wall time of optimize(), including set-up
+  double total_time = 0.0;       ///< wall time of optimize(), including set-up
   std::size_t num_vertices = 0;  ///< optimised (non-fixed) vertices
   std::size_t num_edges = 0;
   int system_dimension = 0;

@@ -14,13 +14,12 @@
 /// kRotationTolerance (max-abs of R^T R - I) with det > 0; they are kept exactly as read
 /// (no re-orthonormalisation), as evo does, so metrics match evo to the last digit.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <iosfwd>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "graphslam/core/error.h"
 

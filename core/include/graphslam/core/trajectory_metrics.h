@@ -22,12 +22,11 @@
 /// Misuse (unequal sizes, empty input, unsupported combination, no matching timestamps,
 /// degenerate Umeyama data) throws graphslam::Error.
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "graphslam/core/error.h"
 #include "graphslam/core/trajectory.h"
@@ -47,10 +46,10 @@ enum class PoseRelation {
 
 /// Alignment of the estimate to the reference before computing errors.
 enum class AlignmentMode {
-  kNone,       ///< no alignment (evo default)
-  kSE3,        ///< Umeyama rotation + translation (evo `-a`)
-  kSim3,       ///< Umeyama rotation + translation + scale (evo `-as`)
-  kScaleOnly   ///< Umeyama scale only (evo `-s` without `-a`)
+  kNone,      ///< no alignment (evo default)
+  kSE3,       ///< Umeyama rotation + translation (evo `-a`)
+  kSim3,      ///< Umeyama rotation + translation + scale (evo `-as`)
+  kScaleOnly  ///< Umeyama scale only (evo `-s` without `-a`)
 };
 
 /// Unit of the RPE delta (evo's delta_unit).
@@ -104,9 +103,9 @@ struct AssociationOptions {
 
 /// Result of umeyamaAlignment: y ~ scale * rotation * x + translation.
 struct UmeyamaResult {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();   ///< proper rotation
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();    ///< translation
-  double scale = 1.0;                                       ///< 1 unless with_scale
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< proper rotation
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();   ///< translation
+  double scale = 1.0;                                      ///< 1 unless with_scale
 };
 
 /// Least-squares Sim(3)/SE(3) between point sets (columns), Umeyama 1991, as evo's
@@ -124,7 +123,7 @@ struct AlignmentOptions {
 
 /// The aligned estimate and the transformation that was applied.
 struct AlignmentResult {
-  Trajectory aligned;  ///< the estimate after alignment
+  Trajectory aligned;     ///< the estimate after alignment
   UmeyamaResult umeyama;  ///< Umeyama parameters (identity/1 if not used)
   Eigen::Isometry3d origin_transform = Eigen::Isometry3d::Identity();  ///< align_origin part
 };
@@ -145,18 +144,18 @@ struct AlignmentResult {
 /// Options of computeApe.
 struct ApeOptions {
   PoseRelation pose_relation = PoseRelation::kTranslationPart;  ///< evo `-r`
-  bool associate = true;  ///< match timestamps first (evo does for TUM/bag input)
+  bool associate = true;           ///< match timestamps first (evo does for TUM/bag input)
   AssociationOptions association;  ///< used if `associate`
   AlignmentOptions alignment;      ///< alignment of the estimate
 };
 
 /// APE result.
 struct ApeResult {
-  std::vector<double> errors;   ///< one error per associated pose
-  ErrorStatistics statistics;   ///< statistics of `errors`
-  Trajectory reference;         ///< associated reference
-  Trajectory estimate;          ///< associated, aligned estimate
-  UmeyamaResult umeyama;        ///< applied Umeyama parameters
+  std::vector<double> errors;  ///< one error per associated pose
+  ErrorStatistics statistics;  ///< statistics of `errors`
+  Trajectory reference;        ///< associated reference
+  Trajectory estimate;         ///< associated, aligned estimate
+  UmeyamaResult umeyama;       ///< applied Umeyama parameters
   Eigen::Isometry3d origin_transform = Eigen::Isometry3d::Identity();  ///< applied origin alignment
 };
 
@@ -172,10 +171,10 @@ struct ApeResult {
 /// Options of computeRpe.
 struct RpeOptions {
   PoseRelation pose_relation = PoseRelation::kTranslationPart;  ///< evo `-r`
-  double delta = 1.0;                       ///< evo `-d`
-  DeltaUnit delta_unit = DeltaUnit::kFrames;  ///< evo `-u`
-  double rel_delta_tol = 0.1;  ///< relative tolerance for all_pairs in m/rad/deg units
-  bool all_pairs = false;      ///< evo `--all_pairs`
+  double delta = 1.0;                                           ///< evo `-d`
+  DeltaUnit delta_unit = DeltaUnit::kFrames;                    ///< evo `-u`
+  double rel_delta_tol = 0.1;         ///< relative tolerance for all_pairs in m/rad/deg units
+  bool all_pairs = false;             ///< evo `--all_pairs`
   bool pairs_from_reference = false;  ///< evo `--pairs_from_reference`
   bool associate = true;              ///< match timestamps first
   AssociationOptions association;     ///< used if `associate`
@@ -187,13 +186,13 @@ using IdPair = std::pair<std::size_t, std::size_t>;
 
 /// RPE result.
 struct RpeResult {
-  std::vector<double> errors;     ///< one error per pair
-  ErrorStatistics statistics;     ///< statistics of `errors`
-  std::vector<IdPair> id_pairs;   ///< the compared pairs (after dropping zero-distance
-                                  ///< pairs for kPointDistanceErrorRatio)
-  Trajectory reference;           ///< associated reference
-  Trajectory estimate;            ///< associated, aligned estimate
-  UmeyamaResult umeyama;          ///< applied Umeyama parameters
+  std::vector<double> errors;    ///< one error per pair
+  ErrorStatistics statistics;    ///< statistics of `errors`
+  std::vector<IdPair> id_pairs;  ///< the compared pairs (after dropping zero-distance
+                                 ///< pairs for kPointDistanceErrorRatio)
+  Trajectory reference;          ///< associated reference
+  Trajectory estimate;           ///< associated, aligned estimate
+  UmeyamaResult umeyama;         ///< applied Umeyama parameters
   Eigen::Isometry3d origin_transform = Eigen::Isometry3d::Identity();  ///< applied origin alignment
 };
 

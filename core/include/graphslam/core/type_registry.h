@@ -33,8 +33,9 @@ class TypeRegistry {
   /// that is empty or contains whitespace, or a type already registered under another tag.
   template <typename T>
   void registerVertex(const std::string& tag) {
-    addEntry(tag, Kind::kVertex, std::type_index(typeid(T)),
-             [] { return std::unique_ptr<Vertex>(std::make_unique<T>()); }, nullptr);
+    addEntry(
+        tag, Kind::kVertex, std::type_index(typeid(T)),
+        [] { return std::unique_ptr<Vertex>(std::make_unique<T>()); }, nullptr);
   }
   /// Registers edge type T under `tag` (same rules as registerVertex).
   template <typename T>

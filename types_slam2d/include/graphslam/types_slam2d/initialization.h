@@ -10,8 +10,8 @@ namespace graphslam::types_slam2d {
 
 /// What initializeGlobal() did.
 struct InitializationReport {
-  std::size_t poses = 0;      ///< VertexSE2 estimates replaced
-  std::size_t landmarks = 0;  ///< VertexXY estimates replaced
+  std::size_t poses = 0;          ///< VertexSE2 estimates replaced
+  std::size_t landmarks = 0;      ///< VertexXY estimates replaced
   std::size_t wrapped_edges = 0;  ///< edges whose angle needed a 2*pi correction
   double seconds = 0.0;
   std::string message;  ///< empty on success; says what was skipped otherwise

@@ -76,6 +76,8 @@ struct DataTraits<types_slam2d::SE2> {
     out[1] = v.translation().y();
     out[2] = v.angle();
   }
-  static types_slam2d::SE2 fromData(const double* in) { return types_slam2d::SE2(in[0], in[1], in[2]); }
+  static types_slam2d::SE2 fromData(const double* in) {
+    return types_slam2d::SE2(in[0], in[1], in[2]);
+  }
 };
 }  // namespace graphslam

@@ -12,7 +12,8 @@ namespace graphslam::types_slam2d {
 class VertexXY final : public BaseVertex<2, Eigen::Vector2d> {
  public:
   VertexXY() { setEstimate(Eigen::Vector2d::Zero()); }
-  [[nodiscard]] Eigen::Vector2d plus(const Eigen::Vector2d& x, const TangentVector& d) const override {
+  [[nodiscard]] Eigen::Vector2d plus(const Eigen::Vector2d& x,
+                                     const TangentVector& d) const override {
     return x + d;
   }
 };
