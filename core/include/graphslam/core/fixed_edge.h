@@ -100,7 +100,7 @@ class FixedEdge : public Edge {
 
   void computeError() override {
     try {
-      error_ = std::apply([this](const auto&... x) { return evaluate(x...); }, estimates());
+      error_ = evaluateAtCurrent(std::make_integer_sequence<int, kArity>{});
     } catch (const detail::EvaluateNotProvided&) {
       throw Error(std::string("edge type ") + typeid(*this).name() +
                   " overrides neither evaluate() nor computeError()");
@@ -198,6 +198,12 @@ class FixedEdge : public Edge {
   ErrorVector& mutableError() { return error_; }
 
  private:
+  /// evaluate() on the vertices' own estimates, without copying them (the hot path).
+  template <int... Is>
+  ErrorVector evaluateAtCurrent(std::integer_sequence<int, Is...>) const {
+    return evaluate(vertexXi<Is>().estimate()...);
+  }
+
   template <int... Is>
   Estimates estimatesImpl(std::integer_sequence<int, Is...>) const {
     return Estimates(vertexXi<Is>().estimate()...);

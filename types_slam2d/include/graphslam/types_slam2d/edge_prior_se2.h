@@ -20,7 +20,6 @@ class EdgePriorSE2 final : public BaseUnaryEdge<3, SE2, VertexSE2> {
     e[2] = normalizeAngle(x.angle() - z.angle());
     return e;
   }
-  void computeError() override { mutableError() = evaluate(vertexXi<0>().estimate()); }
   void linearizeOplus() override;
 };
 

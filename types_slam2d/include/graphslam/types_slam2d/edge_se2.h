@@ -22,9 +22,6 @@ class EdgeSE2 final : public BaseBinaryEdge<3, SE2, VertexSE2, VertexSE2> {
     e[2] = normalizeAngle(xj.angle() - xi.angle() - z.angle());
     return e;
   }
-  void computeError() override {
-    mutableError() = evaluate(vertexXi<0>().estimate(), vertexXi<1>().estimate());
-  }
   void linearizeOplus() override;
 };
 

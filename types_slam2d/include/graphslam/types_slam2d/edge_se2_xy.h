@@ -17,9 +17,6 @@ class EdgeSE2XY final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexSE2, Ver
   [[nodiscard]] ErrorVector evaluate(const SE2& x, const Eigen::Vector2d& l) const override {
     return x.rotation().transpose() * (l - x.translation()) - measurement();
   }
-  void computeError() override {
-    mutableError() = evaluate(vertexXi<0>().estimate(), vertexXi<1>().estimate());
-  }
   void linearizeOplus() override;
 };
 
