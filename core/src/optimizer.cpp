@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "graphslam/core/error.h"
+#include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
-#include "hessian_structure.h"
 
 namespace graphslam {
 
@@ -95,16 +95,77 @@ struct UnionFind {
 }  // namespace
 
 struct Optimizer::Impl {
-  detail::HessianStructure structure;
+  LinearSystem structure;
   std::unique_ptr<LinearSolver> solver;
   std::string solver_name;
   bool analyzed = false;
-  std::vector<double> values;
-  std::vector<double> gradient;
+  bool jacobian_form = false;
   std::vector<double> rhs;
   std::vector<double> dx;
-  std::vector<double> saved_diag;
+  std::vector<double> saved_diag;  // diagonal of the undamped H
   std::vector<double> damping_diag;
+
+  /// Fills the system of the form the solver consumes from the stored Jacobians.
+  void assemble() {
+    if (jacobian_form) {
+      structure.assembleJacobian();
+      rhs.resize(structure.residual().size());
+      for (std::size_t i = 0; i < rhs.size(); ++i) rhs[i] = -structure.residual()[i];
+    } else {
+      structure.assembleHessian();
+      rhs.resize(structure.gradient().size());
+      for (std::size_t i = 0; i < rhs.size(); ++i) rhs[i] = -structure.gradient()[i];
+    }
+  }
+
+  /// Diagonal of the undamped H = J^T Omega J, into saved_diag.
+  void saveDiagonal() {
+    const int n = structure.dimension();
+    saved_diag.assign(static_cast<std::size_t>(n), 0.0);
+    if (jacobian_form) {
+      const JacobianStructure js = structure.jacobianStructure();
+      const auto& v = structure.jacobianValues();
+      for (int c = 0; c < n; ++c) {
+        double sum = 0.0;
+        for (int k = js.col_ptr[c]; k < js.col_ptr[c + 1]; ++k) {
+          if (js.row_idx[k] < js.damping_row) sum += v[k] * v[k];
+        }
+        saved_diag[c] = sum;
+      }
+    } else {
+      const auto& diag = structure.hessianDiagonalPositions();
+      for (int i = 0; i < n; ++i) saved_diag[i] = structure.hessianValues()[diag[i]];
+    }
+  }
+
+  LinearSolverResult analyze() {
+    return jacobian_form ? solver->analyzeJacobian(structure.jacobianStructure())
+                         : solver->analyze(structure.hessianStructure());
+  }
+
+  /// Factorises the system with damping lambda * damping_diag (none when lambda is 0).
+  LinearSolverResult factorize(double lambda) {
+    const int n = structure.dimension();
+    if (jacobian_form) {
+      auto& v = structure.mutableJacobianValues();
+      const auto& pos = structure.jacobianDampingPositions();
+      for (int i = 0; i < n; ++i) {
+        v[pos[i]] = lambda > 0 ? std::sqrt(lambda * damping_diag[i]) : 0.0;
+      }
+      return solver->factorizeJacobian(v.data());
+    }
+    auto& v = structure.mutableHessianValues();
+    if (lambda > 0) {
+      const auto& diag = structure.hessianDiagonalPositions();
+      for (int i = 0; i < n; ++i) v[diag[i]] = saved_diag[i] + lambda * damping_diag[i];
+    }
+    return solver->factorize(v.data());
+  }
+
+  LinearSolverResult solve() {
+    return jacobian_form ? solver->solveJacobian(rhs.data(), dx.data())
+                         : solver->solve(rhs.data(), dx.data());
+  }
 
   double evalChi2(Graph& graph) {
     double sum = 0.0;
@@ -201,14 +262,12 @@ Summary Optimizer::optimize() {
 
   TimeSplit setup;
   auto t0 = Clock::now();
-  if (im.structure.stale(graph_) || !im.analyzed) {
-    im.structure.build(graph_);
-    im.analyzed = false;
-  }
+  if (im.structure.update(graph_)) im.analyzed = false;
+  im.jacobian_form = im.solver->form() == SystemForm::kJacobian;
   summary.num_vertices = im.structure.activeVertices().size();
   summary.num_edges = graph_.numEdges();
   summary.system_dimension = im.structure.dimension();
-  summary.hessian_nonzeros = im.structure.nonZeros();
+  summary.hessian_nonzeros = im.structure.hessianStructure().nnz();
 
   // Anchors: components of free vertices touched by a unary edge or an edge to a fixed
   // vertex are determined; the others float.
@@ -265,7 +324,7 @@ Summary Optimizer::optimize() {
     return summary;
   }
   if (!im.analyzed) {
-    const LinearSolverResult r = im.solver->analyze(im.structure.sparseStructure());
+    const LinearSolverResult r = im.analyze();
     if (!r.ok()) {
       summary.status = TerminationStatus::kNumericalFailure;
       summary.message = "symbolic analysis failed: " + r.message;
@@ -278,7 +337,6 @@ Summary Optimizer::optimize() {
   summary.time += setup;
 
   const int n = im.structure.dimension();
-  im.rhs.resize(static_cast<std::size_t>(n));
   im.dx.resize(static_cast<std::size_t>(n));
   double chi2 = summary.initial_chi2;
   double lambda = -1.0;  // < 0: initialise from H at the next damped iteration
@@ -308,22 +366,17 @@ Summary Optimizer::optimize() {
     IterationStats st;
     st.iteration = it;
     auto ta = Clock::now();
-    for (Edge* e : im.structure.activeEdges()) e->linearizeOplus();
+    im.structure.linearize();
     auto tb = Clock::now();
     st.time.linearize = seconds(ta, tb);
-    im.structure.assemble(im.values, im.gradient);
-    for (int i = 0; i < n; ++i) im.rhs[i] = -im.gradient[i];
+    im.assemble();
     auto tc = Clock::now();
     st.time.build = seconds(tb, tc);
 
-    const auto& diag = im.structure.diagonalPositions();
     if (damped) {
-      im.saved_diag.resize(static_cast<std::size_t>(n));
+      im.saveDiagonal();
       double max_diag = 0.0;
-      for (int i = 0; i < n; ++i) {
-        im.saved_diag[i] = im.values[diag[i]];
-        max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
-      }
+      for (int i = 0; i < n; ++i) max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
       if (lambda < 0) {
         lambda =
             options_.initial_lambda_factor *
@@ -349,16 +402,12 @@ Summary Optimizer::optimize() {
     while (true) {
       ++attempts;
       used_lambda = damped ? lambda : 0.0;
-      if (damped) {
-        for (int i = 0; i < n; ++i)
-          im.values[diag[i]] = im.saved_diag[i] + lambda * im.damping_diag[i];
-      }
       auto tf0 = Clock::now();
-      LinearSolverResult r = im.solver->factorize(im.values.data());
+      LinearSolverResult r = im.factorize(used_lambda);
       auto tf1 = Clock::now();
       st.time.factorize += seconds(tf0, tf1);
       if (r.ok()) {
-        r = im.solver->solve(im.rhs.data(), im.dx.data());
+        r = im.solve();
       }
       if (!r.ok()) {
         st.time.solve += seconds(tf1, Clock::now());
@@ -391,7 +440,7 @@ Summary Optimizer::optimize() {
       double bdx = 0.0;
       for (int i = 0; i < n; ++i) {
         dx2 += im.dx[i] * im.dx[i] * im.damping_diag[i];
-        bdx += im.gradient[i] * im.dx[i];
+        bdx += im.structure.gradient()[i] * im.dx[i];
       }
       const double predicted = lambda * dx2 - bdx;  // model decrease of chi2
       const double rho = (chi2 - new_chi2) / predicted;

@@ -91,23 +91,137 @@ const char* toString(LinearSolverStatus status) {
   return "unknown";
 }
 
-void SolverRegistry::registerSolver(const std::string& name, const std::string& description,
-                                    Factory factory) {
-  checkName(name, "solver name");
-  if (!factory) throw RegistryError("null factory for solver '" + name + "'");
-  if (entries_.count(name)) throw RegistryError("solver '" + name + "' is already registered");
-  entries_.emplace(name, Entry{name, description, origin_, std::move(factory)});
+const char* toString(Ordering ordering) {
+  switch (ordering) {
+    case Ordering::kDefault:
+      return "default";
+    case Ordering::kNatural:
+      return "natural";
+    case Ordering::kAmd:
+      return "amd";
+    case Ordering::kColamd:
+      return "colamd";
+    case Ordering::kMetis:
+      return "metis";
+  }
+  return "unknown";
 }
 
-std::unique_ptr<LinearSolver> SolverRegistry::create(const std::string& name) const {
+bool parseOrdering(const std::string& text, Ordering& ordering) {
+  for (Ordering o : {Ordering::kDefault, Ordering::kNatural, Ordering::kAmd, Ordering::kColamd,
+                     Ordering::kMetis}) {
+    if (text == toString(o)) {
+      ordering = o;
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+LinearSolverResult notThisForm(const LinearSolver& s, const char* call) {
+  return LinearSolverResult::failure(
+      LinearSolverStatus::kFailure,
+      s.name() + " does not take " +
+          (s.form() == SystemForm::kJacobian ? "the normal equations" : "the Jacobian form") +
+          " (" + call + ")");
+}
+}  // namespace
+
+LinearSolverResult LinearSolver::analyze(const SparseStructure&) {
+  return notThisForm(*this, "analyze");
+}
+LinearSolverResult LinearSolver::factorize(const double*) {
+  return notThisForm(*this, "factorize");
+}
+LinearSolverResult LinearSolver::solve(const double*, double*) {
+  return notThisForm(*this, "solve");
+}
+LinearSolverResult LinearSolver::analyzeJacobian(const JacobianStructure&) {
+  return notThisForm(*this, "analyzeJacobian");
+}
+LinearSolverResult LinearSolver::factorizeJacobian(const double*) {
+  return notThisForm(*this, "factorizeJacobian");
+}
+LinearSolverResult LinearSolver::solveJacobian(const double*, double*) {
+  return notThisForm(*this, "solveJacobian");
+}
+
+void SolverRegistry::registerSolver(const std::string& name, const std::string& description,
+                                    SystemForm form, std::vector<Ordering> orderings,
+                                    Factory factory) {
+  checkName(name, "solver name");
+  if (name.find(':') != std::string::npos) {
+    throw RegistryError("solver name '" + name + "' contains ':' (it separates the ordering)");
+  }
+  if (!factory) throw RegistryError("null factory for solver '" + name + "'");
+  if (orderings.empty()) throw RegistryError("solver '" + name + "' lists no ordering");
+  if (entries_.count(name)) throw RegistryError("solver '" + name + "' is already registered");
+  entries_.emplace(
+      name, Entry{name, description, origin_, form, std::move(orderings), std::move(factory)});
+}
+
+void SolverRegistry::registerSolver(const std::string& name, const std::string& description,
+                                    SimpleFactory factory) {
+  if (!factory) throw RegistryError("null factory for solver '" + name + "'");
+  registerSolver(name, description, SystemForm::kNormalEquations, {Ordering::kDefault},
+                 [f = std::move(factory)](const LinearSolverOptions&) { return f(); });
+}
+
+const SolverRegistry::Entry* SolverRegistry::find(const std::string& name) const {
   auto it = entries_.find(name);
-  if (it == entries_.end()) {
+  return it == entries_.end() ? nullptr : &it->second;
+}
+
+namespace {
+/// Splits "name:ordering"; the ordering part is empty when absent.
+std::pair<std::string, std::string> splitSpec(const std::string& spec) {
+  const auto colon = spec.find(':');
+  if (colon == std::string::npos) return {spec, ""};
+  return {spec.substr(0, colon), spec.substr(colon + 1)};
+}
+}  // namespace
+
+bool SolverRegistry::contains(const std::string& spec) const {
+  const auto [name, ord] = splitSpec(spec);
+  const Entry* e = find(name);
+  if (!e) return false;
+  if (ord.empty()) return true;
+  Ordering o;
+  if (!parseOrdering(ord, o)) return false;
+  return o == Ordering::kDefault ||
+         std::find(e->orderings.begin(), e->orderings.end(), o) != e->orderings.end();
+}
+
+std::unique_ptr<LinearSolver> SolverRegistry::create(const std::string& spec) const {
+  const auto [name, ord] = splitSpec(spec);
+  LinearSolverOptions options;
+  if (!ord.empty() && !parseOrdering(ord, options.ordering)) {
+    throw RegistryError("unknown ordering '" + ord + "' in solver '" + spec +
+                        "' (known: natural, amd, colamd, metis, default)");
+  }
+  return create(name, options);
+}
+
+std::unique_ptr<LinearSolver> SolverRegistry::create(const std::string& name,
+                                                     const LinearSolverOptions& options) const {
+  const Entry* e = find(name);
+  if (!e) {
     std::string known;
-    for (const auto& [n, e] : entries_) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& [n, entry] : entries_) known += (known.empty() ? "" : ", ") + n;
     throw RegistryError("unknown linear solver '" + name +
                         "' (known: " + (known.empty() ? "none" : known) + ")");
   }
-  return it->second.factory();
+  LinearSolverOptions opts = options;
+  if (opts.ordering == Ordering::kDefault) opts.ordering = e->orderings.front();
+  if (std::find(e->orderings.begin(), e->orderings.end(), opts.ordering) == e->orderings.end()) {
+    std::string accepted;
+    for (Ordering o : e->orderings)
+      accepted += (accepted.empty() ? "" : ", ") + std::string(toString(o));
+    throw RegistryError("solver '" + name + "' does not offer the ordering '" +
+                        toString(opts.ordering) + "' (it offers: " + accepted + ")");
+  }
+  return e->factory(opts);
 }
 
 std::vector<const SolverRegistry::Entry*> SolverRegistry::entries() const {

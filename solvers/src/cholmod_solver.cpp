@@ -6,20 +6,21 @@
 #include <memory>
 #include <string>
 
-#include "block_ordering.h"
-#include "graphslam/solvers/register.h"
+#include "common.h"
+#include "ordering.h"
+#include "suitesparse.h"
 
 namespace graphslam::solvers {
 
 namespace {
 
-/// CHOLMOD Cholesky (supernodal or simplicial LL^T) with a block AMD ordering given to
-/// CHOLMOD. H is passed without copying: the cholmod_sparse header points at the
-/// optimizer's CSC arrays (upper triangle, stype = 1).
+/// CHOLMOD Cholesky (supernodal or simplicial LL^T) with an ordering computed on the
+/// block graph and given to CHOLMOD. H is passed without copying: the cholmod_sparse header points
+/// at the optimizer's CSC arrays (upper triangle, stype = 1).
 class CholmodSolver final : public LinearSolver {
  public:
-  CholmodSolver(std::string name, bool supernodal)
-      : name_(std::move(name)), supernodal_(supernodal) {
+  CholmodSolver(std::string name, bool supernodal, Ordering ordering)
+      : name_(std::move(name)), supernodal_(supernodal), ordering_(ordering) {
     cholmod_start(&common_);
     common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
@@ -37,6 +38,7 @@ class CholmodSolver final : public LinearSolver {
   }
 
   std::string name() const override { return name_; }
+  Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
     freeFactor();
@@ -54,7 +56,7 @@ class CholmodSolver final : public LinearSolver {
     a_.dtype = CHOLMOD_DOUBLE;
     a_.sorted = 1;
     a_.packed = 1;
-    perm_ = detail::blockAmdOrdering(s);
+    perm_ = detail::orderColumns(ordering_, s);
     factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
@@ -126,6 +128,23 @@ class CholmodSolver final : public LinearSolver {
     return nnz;
   }
 
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    if (!factor_) return false;
+    cholmod_factor* copy = cholmod_copy_factor(factor_, &common_);
+    if (!copy) return false;
+    cholmod_sparse* l = cholmod_factor_to_sparse(copy, &common_);
+    bool ok = l != nullptr;
+    if (ok) {
+      const auto* p = static_cast<const int*>(l->p);
+      const auto* i = static_cast<const int*>(l->i);
+      col_ptr.assign(p, p + l->ncol + 1);
+      row_idx.assign(i, i + p[l->ncol]);
+      cholmod_free_sparse(&l, &common_);
+    }
+    cholmod_free_factor(&copy, &common_);
+    return ok;
+  }
+
  private:
   void freeFactor() {
     if (factor_) cholmod_free_factor(&factor_, &common_);
@@ -139,7 +158,8 @@ class CholmodSolver final : public LinearSolver {
 
   std::string name_;
   bool supernodal_;
-  cholmod_common common_{};
+  Ordering ordering_;
+  mutable cholmod_common common_{};  // CHOLMOD statistics change in const queries
   cholmod_sparse a_{};
   cholmod_factor* factor_ = nullptr;
   cholmod_dense* b_ = nullptr;
@@ -152,14 +172,9 @@ class CholmodSolver final : public LinearSolver {
 
 }  // namespace
 
-bool haveCholmod() { return true; }
-
-void registerCholmodSolvers(SolverRegistry& registry) {
-  registry.registerSolver("cholmod", "CHOLMOD supernodal Cholesky, block AMD ordering",
-                          [] { return std::make_unique<CholmodSolver>("cholmod", true); });
-  registry.registerSolver(
-      "cholmod-simplicial", "CHOLMOD simplicial Cholesky, block AMD ordering",
-      [] { return std::make_unique<CholmodSolver>("cholmod-simplicial", false); });
+std::unique_ptr<LinearSolver> makeCholmodSolver(bool supernodal, Ordering ordering) {
+  return std::make_unique<CholmodSolver>(supernodal ? "cholmod" : "cholmod-simplicial", supernodal,
+                                         ordering);
 }
 
 }  // namespace graphslam::solvers

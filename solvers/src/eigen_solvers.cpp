@@ -1,46 +1,47 @@
 // SPDX-License-Identifier: MIT
+// Solvers built on Eigen alone: sparse LDL^T / LL^T, sparse QR on J, dense LDL^T, dense
+// pseudo-inverse and block-Jacobi preconditioned conjugate gradients.
+#include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
+#include <Eigen/SparseQR>
 #include <memory>
 
-#include "block_ordering.h"
+#include "common.h"
 #include "graphslam/solvers/register.h"
+#include "ordering.h"
 
 namespace graphslam::solvers {
 
 namespace {
 
-using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-using Perm = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>;
+using detail::SpMat;
 
-/// Eigen's simplicial Cholesky (LDL^T or LL^T) on H permuted by a block AMD ordering.
+/// Eigen's simplicial Cholesky (LDL^T or LL^T) on P H P^T, P from the chosen ordering.
 template <typename Factorization>
 class EigenSimplicialSolver final : public LinearSolver {
  public:
-  explicit EigenSimplicialSolver(std::string name) : name_(std::move(name)) {}
+  EigenSimplicialSolver(std::string name, Ordering ordering)
+      : name_(std::move(name)), ordering_(ordering) {}
 
   std::string name() const override { return name_; }
+  Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
-    structure_ = s;
-    order_ = detail::blockAmdOrdering(s);  // order_[k] = original column at position k
-    p_.resize(s.n);
-    for (int k = 0; k < s.n; ++k) p_.indices()[order_[k]] = k;  // original -> new
+    n_ = s.n;
+    order_ = detail::orderColumns(ordering_, s);  // order_[k] = original column at k
+    permuted_.build(s, order_);
     pattern_done_ = false;
     return LinearSolverResult::success();
   }
 
   LinearSolverResult factorize(const double* values) override {
-    const Eigen::Map<const SpMat> a(structure_.n, structure_.n, static_cast<int>(structure_.nnz()),
-                                    structure_.col_ptr, structure_.row_idx, values);
-    permuted_.resize(structure_.n, structure_.n);
-    permuted_.template selfadjointView<Eigen::Upper>() =
-        a.template selfadjointView<Eigen::Upper>().twistedBy(p_);
+    permuted_.fill(values, values_);
+    const auto a = permuted_.map(values_);
     if (!pattern_done_) {
-      factor_.analyzePattern(permuted_);
+      factor_.analyzePattern(a);
       pattern_done_ = true;
     }
-    factor_.factorize(permuted_);
+    factor_.factorize(a);
     if (factor_.info() != Eigen::Success) {
       return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                          "Cholesky factorisation failed", firstBadColumn());
@@ -53,19 +54,19 @@ class EigenSimplicialSolver final : public LinearSolver {
   }
 
   LinearSolverResult solve(const double* rhs, double* x) override {
-    const Eigen::Map<const Eigen::VectorXd> b(rhs, structure_.n);
-    Eigen::Map<Eigen::VectorXd> out(x, structure_.n);
-    work_ = p_ * b;
+    work_.resize(n_);
+    for (int k = 0; k < n_; ++k) work_[k] = rhs[order_[k]];
     work_ = factor_.solve(work_);
-    out = p_.transpose() * work_;
-    if (!out.allFinite()) {
-      return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
-    }
+    for (int k = 0; k < n_; ++k) x[order_[k]] = work_[k];
+    if (!detail::allFinite(x, n_)) return detail::notFinite();
     return LinearSolverResult::success();
   }
 
   std::size_t factorNonZeros() const override {
     return static_cast<std::size_t>(factor_.matrixL().nestedExpression().nonZeros());
+  }
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    return detail::exportPattern(factor_.matrixL().nestedExpression(), col_ptr, row_idx);
   }
 
  private:
@@ -83,10 +84,11 @@ class EigenSimplicialSolver final : public LinearSolver {
   }
 
   std::string name_;
-  SparseStructure structure_;
+  Ordering ordering_;
+  int n_ = 0;
   std::vector<int> order_;
-  Perm p_;
-  SpMat permuted_;
+  detail::PermutedUpper permuted_;
+  std::vector<double> values_;
   Factorization factor_;
   Eigen::VectorXd work_;
   bool pattern_done_ = false;
@@ -95,19 +97,356 @@ class EigenSimplicialSolver final : public LinearSolver {
 using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>>;
 using Llt = Eigen::SimplicialLLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>>;
 
+/// Eigen's SparseQR on the whitened Jacobian with its columns in the chosen order. Two
+/// patterns are analysed lazily: J alone (no damping) and J with its damping rows.
+class EigenQrSolver final : public LinearSolver {
+ public:
+  explicit EigenQrSolver(Ordering ordering) : ordering_(ordering) {}
+  std::string name() const override { return "eigen-qr"; }
+  SystemForm form() const override { return SystemForm::kJacobian; }
+  Ordering ordering() const override { return ordering_; }
+
+  LinearSolverResult analyzeJacobian(const JacobianStructure& s) override {
+    structure_ = s;
+    order_ = detail::orderColumns(ordering_, s);
+    for (int damped = 0; damped < 2; ++damped) {
+      variants_[damped].columns.build(s, order_, damped == 0, true);
+      variants_[damped].analyzed = false;
+    }
+    active_ = nullptr;
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorizeJacobian(const double* values) override {
+    Variant& v = variants_[detail::dampingIsZero(structure_, values) ? 0 : 1];
+    active_ = &v;
+    v.columns.fill(values, values_);
+    v.matrix = v.columns.map(values_);
+    if (!v.analyzed) {
+      v.qr.analyzePattern(v.matrix);
+      v.analyzed = true;
+    }
+    v.qr.factorize(v.matrix);
+    if (v.qr.info() != Eigen::Success) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "SparseQR failed: " + v.qr.lastErrorMessage());
+    }
+    const int n = v.columns.cols;
+    if (v.qr.rank() < n) {
+      const int dead = v.qr.colsPermutation().indices()[v.qr.rank()];
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kSingular,
+          "rank " + std::to_string(v.qr.rank()) + " < " + std::to_string(n), order_[dead]);
+    }
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solveJacobian(const double* rhs, double* x) override {
+    if (!active_)
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
+    const auto& rows = active_->columns.row_order;
+    rhs_.resize(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k) rhs_[static_cast<Eigen::Index>(k)] = rhs[rows[k]];
+    work_ = active_->qr.solve(rhs_);
+    for (int k = 0; k < active_->columns.cols; ++k) x[order_[k]] = work_[k];
+    if (!detail::allFinite(x, active_->columns.cols)) return detail::notFinite();
+    return LinearSolverResult::success();
+  }
+
+  std::size_t factorNonZeros() const override {
+    return active_ ? static_cast<std::size_t>(active_->qr.matrixR().nonZeros()) : 0u;
+  }
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    return active_ && detail::exportPattern(active_->qr.matrixR(), col_ptr, row_idx);
+  }
+
+ private:
+  struct Variant {
+    detail::PermutedColumns columns;
+    SpMat matrix;
+    Eigen::SparseQR<SpMat, Eigen::NaturalOrdering<int>> qr;
+    bool analyzed = false;
+  };
+  Ordering ordering_;
+  JacobianStructure structure_;
+  std::vector<int> order_;
+  Variant variants_[2];  // [0]: without damping rows, [1]: with
+  Variant* active_ = nullptr;
+  std::vector<double> values_;
+  Eigen::VectorXd rhs_, work_;
+};
+
+/// Tolerance below which a pivot or eigenvalue counts as zero, relative to the largest.
+double zeroTolerance(int n, double largest) {
+  return static_cast<double>(n) * Eigen::NumTraits<double>::epsilon() * largest;
+}
+
+/// Dense LDL^T with symmetric pivoting (Eigen::LDLT) of the whole of H.
+class DenseLdltSolver final : public LinearSolver {
+ public:
+  std::string name() const override { return "dense-ldlt"; }
+  Ordering ordering() const override { return Ordering::kNatural; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    structure_ = s;
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* values) override {
+    ldlt_.compute(detail::denseSymmetric(structure_, values));
+    if (ldlt_.info() != Eigen::Success) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "dense LDLT failed");
+    }
+    const Eigen::VectorXd d = ldlt_.vectorD();
+    Eigen::VectorXi original = Eigen::VectorXi::LinSpaced(structure_.n, 0, structure_.n - 1);
+    original = ldlt_.transpositionsP() * original;  // original[k] = column pivoted to k
+    const double tol = zeroTolerance(structure_.n, d.cwiseAbs().maxCoeff());
+    for (int k = 0; k < d.size(); ++k) {
+      if (d[k] < -tol) {
+        return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                           "negative pivot", original[k]);
+      }
+    }
+    for (int k = 0; k < d.size(); ++k) {
+      if (d[k] <= tol) {
+        return LinearSolverResult::failure(LinearSolverStatus::kSingular, "zero pivot",
+                                           original[k]);
+      }
+    }
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    const Eigen::Map<const Eigen::VectorXd> b(rhs, structure_.n);
+    Eigen::Map<Eigen::VectorXd>(x, structure_.n) = ldlt_.solve(b);
+    if (!detail::allFinite(x, structure_.n)) return detail::notFinite();
+    return LinearSolverResult::success();
+  }
+
+  std::size_t factorNonZeros() const override {
+    const auto n = static_cast<std::size_t>(structure_.n);
+    return n * (n + 1) / 2;
+  }
+
+ private:
+  SparseStructure structure_;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+};
+
+/// Dense pseudo-inverse of H from its eigendecomposition H = V diag(l) V^T:
+/// x = V diag(1/l) V^T b. A negative eigenvalue is reported as not positive definite, a
+/// zero one as singular, with the column the eigenvector weighs most.
+class DensePinvSolver final : public LinearSolver {
+ public:
+  std::string name() const override { return "dense-pinv"; }
+  Ordering ordering() const override { return Ordering::kNatural; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    structure_ = s;
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* values) override {
+    eig_.compute(detail::denseSymmetric(structure_, values));
+    if (eig_.info() != Eigen::Success) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "eigendecomposition did not converge");
+    }
+    const Eigen::VectorXd& l = eig_.eigenvalues();  // ascending
+    const double tol = zeroTolerance(structure_.n, l.cwiseAbs().maxCoeff());
+    int col = 0;
+    if (l[0] < -tol) {
+      eig_.eigenvectors().col(0).cwiseAbs().maxCoeff(&col);
+      return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                         "negative eigenvalue " + std::to_string(l[0]), col);
+    }
+    if (l[0] <= tol) {
+      eig_.eigenvectors().col(0).cwiseAbs().maxCoeff(&col);
+      return LinearSolverResult::failure(LinearSolverStatus::kSingular,
+                                         "zero eigenvalue (rank deficient)", col);
+    }
+    inverse_eigenvalues_ = l.cwiseInverse();
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    const Eigen::Map<const Eigen::VectorXd> b(rhs, structure_.n);
+    const Eigen::VectorXd y =
+        inverse_eigenvalues_.cwiseProduct(eig_.eigenvectors().transpose() * b);
+    Eigen::Map<Eigen::VectorXd>(x, structure_.n) = eig_.eigenvectors() * y;
+    if (!detail::allFinite(x, structure_.n)) return detail::notFinite();
+    return LinearSolverResult::success();
+  }
+
+  std::size_t factorNonZeros() const override {
+    const auto n = static_cast<std::size_t>(structure_.n);
+    return n * n;
+  }
+
+ private:
+  SparseStructure structure_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_;
+  Eigen::VectorXd inverse_eigenvalues_;
+};
+
+/// Conjugate gradients on H with a block-Jacobi preconditioner (the inverse of every
+/// vertex's diagonal block). Iterates to a relative residual of `tolerance`.
+class PcgSolver final : public LinearSolver {
+ public:
+  std::string name() const override { return "pcg"; }
+  Ordering ordering() const override { return Ordering::kNatural; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    structure_ = s;
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* values) override {
+    const SparseStructure& s = structure_;
+    values_.assign(values, values + s.nnz());
+    blocks_.resize(static_cast<std::size_t>(s.num_blocks));
+    for (int b = 0; b < s.num_blocks; ++b) {
+      const int c0 = s.block_starts[b];
+      const int d = s.block_starts[b + 1] - c0;
+      Eigen::MatrixXd block(d, d);
+      for (int j = 0; j < d; ++j) {
+        for (int k = s.col_ptr[c0 + j]; k < s.col_ptr[c0 + j + 1]; ++k) {
+          const int r = s.row_idx[k];
+          if (r >= c0 && r <= c0 + j) {
+            block(r - c0, j) = values_[k];
+            block(j, r - c0) = values_[k];
+          }
+        }
+      }
+      Eigen::LDLT<Eigen::MatrixXd> ldlt(block);
+      const Eigen::VectorXd dvec = ldlt.vectorD();
+      const double tol = zeroTolerance(d, block.cwiseAbs().maxCoeff());
+      if (ldlt.info() != Eigen::Success || !(dvec.minCoeff() > tol)) {
+        const bool negative = dvec.minCoeff() < -tol;
+        return LinearSolverResult::failure(
+            negative ? LinearSolverStatus::kNotPositiveDefinite : LinearSolverStatus::kSingular,
+            "diagonal block is not positive definite", c0);
+      }
+      blocks_[b] = ldlt.solve(Eigen::MatrixXd::Identity(d, d));
+    }
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    const int n = structure_.n;
+    const Eigen::Map<const Eigen::VectorXd> b(rhs, n);
+    Eigen::VectorXd sol = Eigen::VectorXd::Zero(n), r = b, z(n), p(n), q(n);
+    precondition(r, z);
+    p = z;
+    double rz = r.dot(z);
+    const double b_norm = b.norm();
+    iterations_ = 0;
+    if (b_norm == 0.0) {
+      Eigen::Map<Eigen::VectorXd>(x, n).setZero();
+      return LinearSolverResult::success();
+    }
+    const int max_iterations = std::max(100, 10 * n);
+    while (r.norm() > tolerance_ * b_norm) {
+      if (++iterations_ > max_iterations) {
+        return LinearSolverResult::failure(
+            LinearSolverStatus::kSingular,
+            "conjugate gradients did not converge in " + std::to_string(max_iterations) +
+                " iterations (relative residual " + std::to_string(r.norm() / b_norm) + ")");
+      }
+      multiply(p, q);
+      const double pq = p.dot(q);
+      if (!(pq > 0.0)) {
+        return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                           "non-positive curvature p^T H p");
+      }
+      const double alpha = rz / pq;
+      sol += alpha * p;
+      r -= alpha * q;
+      precondition(r, z);
+      const double rz_new = r.dot(z);
+      p = z + (rz_new / rz) * p;
+      rz = rz_new;
+    }
+    Eigen::Map<Eigen::VectorXd>(x, n) = sol;
+    if (!detail::allFinite(x, n)) return detail::notFinite();
+    return LinearSolverResult::success();
+  }
+
+  /// Non-zeros of the preconditioner (the inverted diagonal blocks).
+  std::size_t factorNonZeros() const override {
+    std::size_t nnz = 0;
+    for (const auto& b : blocks_) nnz += static_cast<std::size_t>(b.size());
+    return nnz;
+  }
+
+ private:
+  /// y = H x from the upper triangle.
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    const SparseStructure& s = structure_;
+    y.setZero(s.n);
+    for (int c = 0; c < s.n; ++c) {
+      double acc = 0.0;
+      for (int k = s.col_ptr[c]; k < s.col_ptr[c + 1]; ++k) {
+        const int r = s.row_idx[k];
+        if (r > c) break;  // rows are sorted: the rest is below the diagonal
+        const double v = values_[k];
+        y[r] += v * x[c];
+        if (r != c) acc += v * x[r];
+      }
+      y[c] += acc;
+    }
+  }
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+    const SparseStructure& s = structure_;
+    z.resize(s.n);
+    for (int b = 0; b < s.num_blocks; ++b) {
+      const int c0 = s.block_starts[b];
+      const int d = s.block_starts[b + 1] - c0;
+      z.segment(c0, d) = blocks_[b] * r.segment(c0, d);
+    }
+  }
+
+  SparseStructure structure_;
+  std::vector<double> values_;
+  std::vector<Eigen::MatrixXd> blocks_;
+  double tolerance_ = 1e-14;
+  int iterations_ = 0;
+};
+
 }  // namespace
 
 void registerEigenSolvers(SolverRegistry& registry) {
-  registry.registerSolver("eigen-ldlt", "Eigen SimplicialLDLT, block AMD ordering", [] {
-    return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt");
-  });
-  registry.registerSolver("eigen-llt", "Eigen SimplicialLLT, block AMD ordering",
-                          [] { return std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt"); });
+  const auto orderings = detail::availableOrderings();
+  registry.registerSolver(
+      "eigen-ldlt", "Eigen SimplicialLDLT on H (ordering on the block graph)",
+      SystemForm::kNormalEquations, orderings, [](const LinearSolverOptions& o) {
+        return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", o.ordering);
+      });
+  registry.registerSolver(
+      "eigen-llt", "Eigen SimplicialLLT on H (ordering on the block graph)",
+      SystemForm::kNormalEquations, orderings, [](const LinearSolverOptions& o) {
+        return std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt", o.ordering);
+      });
+  registry.registerSolver(
+      "eigen-qr", "Eigen SparseQR on the whitened Jacobian J", SystemForm::kJacobian, orderings,
+      [](const LinearSolverOptions& o) { return std::make_unique<EigenQrSolver>(o.ordering); });
+  registry.registerSolver(
+      "dense-ldlt", "Eigen dense LDLT (pivoted) of the whole of H", SystemForm::kNormalEquations,
+      {Ordering::kNatural},
+      [](const LinearSolverOptions&) { return std::make_unique<DenseLdltSolver>(); });
+  registry.registerSolver(
+      "dense-pinv", "dense pseudo-inverse of H from its eigendecomposition (Eigen)",
+      SystemForm::kNormalEquations, {Ordering::kNatural},
+      [](const LinearSolverOptions&) { return std::make_unique<DensePinvSolver>(); });
+  registry.registerSolver(
+      "pcg", "conjugate gradients on H, block-Jacobi preconditioner, relative residual 1e-14",
+      SystemForm::kNormalEquations, {Ordering::kNatural},
+      [](const LinearSolverOptions&) { return std::make_unique<PcgSolver>(); });
 }
 
 void registerSolvers(SolverRegistry& registry) {
   registerEigenSolvers(registry);
-  if (haveCholmod()) registerCholmodSolvers(registry);
+  if (haveSuiteSparse()) registerSuiteSparseSolvers(registry);
 }
 
 }  // namespace graphslam::solvers

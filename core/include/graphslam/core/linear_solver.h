@@ -56,45 +56,120 @@ struct SparseStructure {
   [[nodiscard]] std::size_t nnz() const { return n ? static_cast<std::size_t>(col_ptr[n]) : 0u; }
 };
 
-/// Sparse linear solver for the optimizer's normal equations: `analyze()` once per
-/// structure (ordering + symbolic factorisation), `factorize()` every iteration on new
-/// values, `solve()` for each right-hand side.
+/// Sparsity structure of the whitened Jacobian of a least-squares system, m x n, in
+/// compressed sparse column form with sorted row indices. Rows [0, damping_row) hold the
+/// edges' residuals (each edge's rows are contiguous); the last n rows
+/// [damping_row, damping_row + n) are one row per column, holding sqrt(lambda d_j) on the
+/// column's last entry (zero without damping), so Levenberg-Marquardt changes values only.
+/// `block_starts` as in SparseStructure.
+struct JacobianStructure {
+  int rows = 0;
+  int cols = 0;
+  int damping_row = 0;
+  const int* col_ptr = nullptr;  ///< cols + 1 entries
+  const int* row_idx = nullptr;
+  const int* block_starts = nullptr;
+  int num_blocks = 0;
+
+  [[nodiscard]] std::size_t nnz() const {
+    return cols ? static_cast<std::size_t>(col_ptr[cols]) : 0u;
+  }
+};
+
+/// Fill-reducing orderings a solver may offer. Orderings are computed on the block graph
+/// (one node per vertex) and expanded to scalar columns, except where a backend orders by
+/// itself (noted in its description).
+enum class Ordering {
+  kDefault,  ///< the solver's own choice
+  kNatural,  ///< the optimizer's column order (vertices by id)
+  kAmd,      ///< approximate minimum degree on the block graph of H
+  kColamd,   ///< column approximate minimum degree (on J's block pattern, or H's)
+  kMetis,    ///< nested dissection by METIS (through CHOLMOD) on the block graph of H
+};
+
+[[nodiscard]] const char* toString(Ordering ordering);
+/// Parses "natural", "amd", "colamd", "metis" or "default"; false for anything else.
+[[nodiscard]] bool parseOrdering(const std::string& text, Ordering& ordering);
+
+/// Options every solver factory receives.
+struct LinearSolverOptions {
+  Ordering ordering = Ordering::kDefault;
+};
+
+/// Sparse linear solver. A normal-equations solver (form() == kNormalEquations) gets
+/// `analyze()` once per structure (ordering + symbolic factorisation), `factorize()`
+/// every iteration on new values and `solve()` for each right-hand side. A Jacobian-form
+/// solver (form() == kJacobian, QR) gets the same three calls for the whitened Jacobian:
+/// `analyzeJacobian()`, `factorizeJacobian()`, `solveJacobian()`.
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
 
   [[nodiscard]] virtual std::string name() const = 0;
   [[nodiscard]] virtual SystemForm form() const { return SystemForm::kNormalEquations; }
+  /// The ordering in use (after analyze: the one actually applied).
+  [[nodiscard]] virtual Ordering ordering() const { return Ordering::kDefault; }
 
-  [[nodiscard]] virtual LinearSolverResult analyze(const SparseStructure& structure) = 0;
+  [[nodiscard]] virtual LinearSolverResult analyze(const SparseStructure& structure);
   /// `values` has structure.nnz() entries in the order of `row_idx`.
-  [[nodiscard]] virtual LinearSolverResult factorize(const double* values) = 0;
+  [[nodiscard]] virtual LinearSolverResult factorize(const double* values);
   /// Solves H x = rhs with the last factorisation; rhs and x have n entries (may alias).
-  [[nodiscard]] virtual LinearSolverResult solve(const double* rhs, double* x) = 0;
+  [[nodiscard]] virtual LinearSolverResult solve(const double* rhs, double* x);
 
-  /// Non-zeros of the last factor (0 if unknown), for reports.
+  [[nodiscard]] virtual LinearSolverResult analyzeJacobian(const JacobianStructure& structure);
+  /// `values` has structure.nnz() entries in the order of `row_idx`.
+  [[nodiscard]] virtual LinearSolverResult factorizeJacobian(const double* values);
+  /// Least-squares solution of J x ~= rhs; rhs has `rows` entries, x has `cols`.
+  [[nodiscard]] virtual LinearSolverResult solveJacobian(const double* rhs, double* x);
+
+  /// Non-zeros of the last factor (L, U or R; 0 if unknown), for reports.
   [[nodiscard]] virtual std::size_t factorNonZeros() const { return 0; }
+
+  /// Pattern of the last factor as CSC (upper or lower triangle as the backend stores
+  /// it, in the solver's permuted order), for sparsity pictures. False when the backend
+  /// cannot export it.
+  virtual bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const {
+    (void)col_ptr;
+    (void)row_idx;
+    return false;
+  }
 };
 
 /// Maps solver names to factories. Filled by explicit registration functions
-/// (`solvers::registerSolvers(registry)`) and plugins.
+/// (`solvers::registerSolvers(registry)`) and plugins. A solver is created by name with
+/// options, or by a specification "name:ordering" (e.g. "cholmod:metis").
 class SolverRegistry {
  public:
-  using Factory = std::function<std::unique_ptr<LinearSolver>()>;
+  using Factory = std::function<std::unique_ptr<LinearSolver>(const LinearSolverOptions&)>;
+  using SimpleFactory = std::function<std::unique_ptr<LinearSolver>()>;
   struct Entry {
     std::string name;
     std::string description;
     std::string origin;
+    SystemForm form = SystemForm::kNormalEquations;
+    /// Orderings the solver accepts; the first is its default.
+    std::vector<Ordering> orderings;
     Factory factory;
   };
 
-  /// Throws RegistryError on a duplicate or malformed name or a null factory.
-  void registerSolver(const std::string& name, const std::string& description, Factory factory);
+  /// Throws RegistryError on a duplicate or malformed name, a null factory or an empty
+  /// ordering list.
+  void registerSolver(const std::string& name, const std::string& description, SystemForm form,
+                      std::vector<Ordering> orderings, Factory factory);
+  /// A normal-equations solver with no ordering choice.
+  void registerSolver(const std::string& name, const std::string& description,
+                      SimpleFactory factory);
   void setOrigin(std::string origin) { origin_ = std::move(origin); }
 
-  [[nodiscard]] bool contains(const std::string& name) const { return entries_.count(name) != 0; }
-  /// Throws RegistryError naming the known solvers when `name` is unknown.
-  [[nodiscard]] std::unique_ptr<LinearSolver> create(const std::string& name) const;
+  /// Whether `spec` ("name" or "name:ordering") names a registered solver and an
+  /// ordering it accepts.
+  [[nodiscard]] bool contains(const std::string& spec) const;
+  /// Creates the solver `spec` names. Throws RegistryError naming the known solvers (or
+  /// the orderings it accepts) when `spec` is unknown.
+  [[nodiscard]] std::unique_ptr<LinearSolver> create(const std::string& spec) const;
+  [[nodiscard]] std::unique_ptr<LinearSolver> create(const std::string& name,
+                                                     const LinearSolverOptions& options) const;
+  [[nodiscard]] const Entry* find(const std::string& name) const;
   [[nodiscard]] std::vector<const Entry*> entries() const;
 
  private:

@@ -5,15 +5,17 @@
 
 namespace graphslam::solvers {
 
-/// Registers "eigen-ldlt" and "eigen-llt" (Eigen simplicial Cholesky, block AMD ordering).
+/// Registers the solvers built on Eigen alone: "eigen-ldlt", "eigen-llt" (simplicial
+/// Cholesky), "eigen-qr" (sparse QR on J), "dense-ldlt", "dense-pinv" and "pcg".
 void registerEigenSolvers(SolverRegistry& registry);
 
-/// Registers "cholmod" (supernodal) and "cholmod-simplicial". Throws RegistryError when
-/// graphslam was built without CHOLMOD.
-void registerCholmodSolvers(SolverRegistry& registry);
+/// Registers the SuiteSparse solvers: "cholmod" (supernodal), "cholmod-simplicial",
+/// "csparse" (CXSparse Cholesky), "umfpack" (LU) and "spqr" (QR on J). Throws
+/// RegistryError when graphslam was built without SuiteSparse.
+void registerSuiteSparseSolvers(SolverRegistry& registry);
 
-/// Whether this build has CHOLMOD.
-[[nodiscard]] bool haveCholmod();
+/// Whether this build has SuiteSparse (and with it the COLAMD and METIS orderings).
+[[nodiscard]] bool haveSuiteSparse();
 
 /// Registers every solver this build has.
 void registerSolvers(SolverRegistry& registry);

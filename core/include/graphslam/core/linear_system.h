@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam {
+
+/// The linearisation of a graph's least-squares problem at the current estimates, in the
+/// two forms a LinearSolver consumes:
+///  - normal equations H dx = -g, H = sum J^T Omega J stored as the upper triangle with
+///    full diagonal blocks (SparseStructure), g = sum J^T Omega e;
+///  - the whitened Jacobian J_w dx ~= -r_w with J_w = W J, r_w = W e, W^T W = Omega
+///    (JacobianStructure, with one damping row per column at the bottom).
+/// The active vertices are the non-fixed ones with at least one edge, in id order; they
+/// get consecutive columns (Vertex::hessianIndex). Structures are rebuilt only when the
+/// graph changes (vertices or edges added or removed, fixed flags changed). The optimizer
+/// uses this class; so can tools that study linear solvers on a graph's system.
+class LinearSystem {
+ public:
+  LinearSystem();
+  ~LinearSystem();
+  LinearSystem(const LinearSystem&) = delete;
+  LinearSystem& operator=(const LinearSystem&) = delete;
+
+  /// Rebuilds the structures when `graph` changed since the last call (or on the first
+  /// call). Returns whether it rebuilt. The graph must outlive this object's use.
+  bool update(Graph& graph);
+
+  /// Calls linearizeOplus() of every active edge. Errors must be current (computeError()
+  /// after the last change of the estimates, e.g. by Graph::chi2()).
+  void linearize();
+  /// Fills hessianValues() and gradient() from the stored errors and Jacobians.
+  void assembleHessian();
+  /// Fills jacobianValues(), residual() and gradient() (builds the Jacobian structure on
+  /// first use); damping rows are zero.
+  void assembleJacobian();
+
+  [[nodiscard]] int dimension() const;
+  [[nodiscard]] SparseStructure hessianStructure() const;
+  [[nodiscard]] const std::vector<double>& hessianValues() const { return h_values_; }
+  [[nodiscard]] std::vector<double>& mutableHessianValues() { return h_values_; }
+  /// Positions of the diagonal entries of H inside the value array.
+  [[nodiscard]] const std::vector<int>& hessianDiagonalPositions() const;
+
+  [[nodiscard]] JacobianStructure jacobianStructure();
+  [[nodiscard]] const std::vector<double>& jacobianValues() const { return j_values_; }
+  [[nodiscard]] std::vector<double>& mutableJacobianValues() { return j_values_; }
+  /// Position of the damping entry of every column inside the Jacobian value array.
+  [[nodiscard]] const std::vector<int>& jacobianDampingPositions();
+  /// Whitened residual, JacobianStructure::rows entries (damping rows zero).
+  [[nodiscard]] const std::vector<double>& residual() const { return residual_; }
+
+  /// J^T Omega e, dimension() entries (from the last assemble call).
+  [[nodiscard]] const std::vector<double>& gradient() const { return gradient_; }
+
+  [[nodiscard]] const std::vector<Vertex*>& activeVertices() const;
+  [[nodiscard]] const std::vector<Edge*>& activeEdges() const;
+  /// Id of the vertex owning column `col`, -1 if out of range.
+  [[nodiscard]] VertexId vertexOfColumn(int col) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<double> h_values_;
+  std::vector<double> j_values_;
+  std::vector<double> residual_;
+  std::vector<double> gradient_;
+};
+
+}  // namespace graphslam

@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/core/linear_system.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+
+#include "hessian_structure.h"
+
+namespace graphslam {
+
+namespace {
+/// Small dense matrices of at most 16 x 16 without heap allocation.
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 16, 16>;
+using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 16, 1>;
+
+/// Where one (edge, slot) block of J_w lives: first value, and the column stride.
+struct JacobianBlockRef {
+  int offset = -1;  ///< -1 when the slot's vertex is fixed
+  int stride = 0;
+};
+}  // namespace
+
+struct LinearSystem::Impl {
+  Graph* graph = nullptr;
+  detail::HessianStructure hessian;
+  bool jacobian_built = false;
+  int rows = 0;
+  std::vector<int> j_col_ptr, j_row_idx, j_damping_pos;
+  std::vector<int> edge_row_start;      // per active edge
+  std::vector<std::size_t> slot_start;  // per active edge, into slot_refs
+  std::vector<JacobianBlockRef> slot_refs;
+  std::vector<int> block_starts;
+
+  void buildJacobian() {
+    const auto& vertices = hessian.activeVertices();
+    const auto& edges = hessian.activeEdges();
+    const int n = hessian.dimension();
+    const auto nb = vertices.size();
+    block_starts.assign(1, 0);
+    for (const Vertex* v : vertices) block_starts.push_back(v->hessianIndex() + v->dimension());
+    // Block b's column index from a vertex: hessianIndex -> block via lower_bound.
+    auto block_of = [&](const Vertex* v) {
+      return static_cast<std::size_t>(
+          std::lower_bound(block_starts.begin(), block_starts.end(), v->hessianIndex()) -
+          block_starts.begin());
+    };
+    edge_row_start.clear();
+    std::vector<std::vector<int>> edges_of(nb);  // active edge indices per block, ascending
+    int row = 0;
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const Edge* e = edges[k];
+      edge_row_start.push_back(row);
+      row += e->dimension();
+      for (std::size_t s = 0; s < e->numVertices(); ++s) {
+        const Vertex* v = e->vertex(s);
+        if (v->hessianIndex() < 0) continue;
+        auto& list = edges_of[block_of(v)];
+        if (list.empty() || list.back() != static_cast<int>(k)) list.push_back(static_cast<int>(k));
+      }
+    }
+    rows = row + n;
+    std::vector<int> len(nb, 1);  // the damping row
+    for (std::size_t b = 0; b < nb; ++b) {
+      for (int k : edges_of[b]) len[b] += edges[static_cast<std::size_t>(k)]->dimension();
+    }
+    j_col_ptr.assign(static_cast<std::size_t>(n) + 1, 0);
+    j_row_idx.clear();
+    j_damping_pos.assign(static_cast<std::size_t>(n), 0);
+    for (std::size_t b = 0; b < nb; ++b) {
+      for (int c = block_starts[b]; c < block_starts[b + 1]; ++c) {
+        j_col_ptr[c + 1] = j_col_ptr[c] + len[b];
+        for (int k : edges_of[b]) {
+          const int r0 = edge_row_start[static_cast<std::size_t>(k)];
+          for (int i = 0; i < edges[static_cast<std::size_t>(k)]->dimension(); ++i) {
+            j_row_idx.push_back(r0 + i);
+          }
+        }
+        j_row_idx.push_back(row + c);
+        j_damping_pos[c] = j_col_ptr[c + 1] - 1;
+      }
+    }
+    slot_start.clear();
+    slot_refs.clear();
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const Edge* e = edges[k];
+      slot_start.push_back(slot_refs.size());
+      for (std::size_t s = 0; s < e->numVertices(); ++s) {
+        const Vertex* v = e->vertex(s);
+        JacobianBlockRef ref;
+        if (v->hessianIndex() >= 0) {
+          const std::size_t b = block_of(v);
+          const auto& list = edges_of[b];
+          int within = 0;
+          for (int other : list) {
+            if (other == static_cast<int>(k)) break;
+            within += edges[static_cast<std::size_t>(other)]->dimension();
+          }
+          ref.offset = j_col_ptr[block_starts[b]] + within;
+          ref.stride = len[b];
+        }
+        slot_refs.push_back(ref);
+      }
+    }
+    jacobian_built = true;
+  }
+};
+
+LinearSystem::LinearSystem() : impl_(std::make_unique<Impl>()) {}
+LinearSystem::~LinearSystem() = default;
+
+bool LinearSystem::update(Graph& graph) {
+  if (impl_->graph == &graph && !impl_->hessian.stale(graph)) return false;
+  impl_->graph = &graph;
+  impl_->hessian.build(graph);
+  impl_->jacobian_built = false;
+  return true;
+}
+
+void LinearSystem::linearize() {
+  for (Edge* e : impl_->hessian.activeEdges()) e->linearizeOplus();
+}
+
+void LinearSystem::assembleHessian() { impl_->hessian.assemble(h_values_, gradient_); }
+
+void LinearSystem::assembleJacobian() {
+  Impl& im = *impl_;
+  if (!im.jacobian_built) im.buildJacobian();
+  j_values_.assign(im.j_row_idx.size(), 0.0);
+  residual_.assign(static_cast<std::size_t>(im.rows), 0.0);
+  gradient_.assign(static_cast<std::size_t>(im.hessian.dimension()), 0.0);
+  const auto& edges = im.hessian.activeEdges();
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const Edge* e = edges[k];
+    const int d = e->dimension();
+    const SmallMatrix info = Eigen::Map<const Eigen::MatrixXd>(e->informationData(), d, d);
+    const Eigen::Map<const Eigen::VectorXd> err(e->errorData(), d);
+    const SmallMatrix w = info.llt().matrixU();  // Omega = U^T U: W = U
+    const SmallVector ew = w * err;
+    const int r0 = im.edge_row_start[k];
+    for (int i = 0; i < d; ++i) residual_[static_cast<std::size_t>(r0 + i)] = ew[i];
+    for (std::size_t s = 0; s < e->numVertices(); ++s) {
+      const JacobianBlockRef ref = im.slot_refs[im.slot_start[k] + s];
+      if (ref.offset < 0) continue;
+      const Vertex* v = e->vertex(s);
+      const int dv = v->dimension();
+      const Eigen::Map<const Eigen::MatrixXd> jac(e->jacobianData(s), d, dv);
+      const SmallMatrix wj = w * jac;
+      for (int j = 0; j < dv; ++j) {
+        double* col = j_values_.data() + ref.offset + static_cast<std::ptrdiff_t>(j) * ref.stride;
+        for (int i = 0; i < d; ++i) col[i] += wj(i, j);
+        gradient_[static_cast<std::size_t>(v->hessianIndex() + j)] += wj.col(j).dot(ew);
+      }
+    }
+  }
+}
+
+int LinearSystem::dimension() const { return impl_->hessian.dimension(); }
+
+SparseStructure LinearSystem::hessianStructure() const { return impl_->hessian.sparseStructure(); }
+
+const std::vector<int>& LinearSystem::hessianDiagonalPositions() const {
+  return impl_->hessian.diagonalPositions();
+}
+
+JacobianStructure LinearSystem::jacobianStructure() {
+  Impl& im = *impl_;
+  if (!im.jacobian_built) im.buildJacobian();
+  JacobianStructure s;
+  s.rows = im.rows;
+  s.cols = im.hessian.dimension();
+  s.damping_row = im.rows - s.cols;
+  s.col_ptr = im.j_col_ptr.data();
+  s.row_idx = im.j_row_idx.data();
+  s.block_starts = im.block_starts.data();
+  s.num_blocks = static_cast<int>(im.hessian.activeVertices().size());
+  return s;
+}
+
+const std::vector<int>& LinearSystem::jacobianDampingPositions() {
+  if (!impl_->jacobian_built) impl_->buildJacobian();
+  return impl_->j_damping_pos;
+}
+
+const std::vector<Vertex*>& LinearSystem::activeVertices() const {
+  return impl_->hessian.activeVertices();
+}
+const std::vector<Edge*>& LinearSystem::activeEdges() const { return impl_->hessian.activeEdges(); }
+VertexId LinearSystem::vertexOfColumn(int col) const { return impl_->hessian.vertexOfColumn(col); }
+
+}  // namespace graphslam

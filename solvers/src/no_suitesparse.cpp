@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+// Built when graphslam is configured without SuiteSparse.
+#include "graphslam/core/error.h"
+#include "graphslam/solvers/register.h"
+
+namespace graphslam::solvers {
+
+bool haveSuiteSparse() { return false; }
+
+void registerSuiteSparseSolvers(SolverRegistry& /*registry*/) {
+  throw RegistryError(
+      "graphslam was built without SuiteSparse: the cholmod, csparse, umfpack and spqr solvers "
+      "are not available (install libsuitesparse-dev and reconfigure)");
+}
+
+}  // namespace graphslam::solvers

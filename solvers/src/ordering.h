@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::solvers: fill-reducing orderings computed on the block graph.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam::solvers::detail {
+
+/// Symmetric block adjacency (both triangles and the diagonal) in CSC form.
+struct BlockGraph {
+  int num_blocks = 0;
+  std::vector<int> ptr;
+  std::vector<int> idx;
+};
+
+/// Block graph of H (one node per variable block).
+[[nodiscard]] BlockGraph blockGraph(const SparseStructure& s);
+/// Block graph of J^T J (columns sharing a row are adjacent).
+[[nodiscard]] BlockGraph blockGraph(const JacobianStructure& s);
+
+/// Orderings this build can compute (METIS needs CHOLMOD).
+[[nodiscard]] std::vector<Ordering> availableOrderings();
+
+/// Fill-reducing ordering of H's columns, computed on the block graph and expanded to
+/// scalar columns: perm[k] = original column placed at position k. kColamd orders the
+/// columns of H's block pattern as an unsymmetric matrix (as SuperLU's COLAMD option
+/// does). Throws graphslam::Error for an ordering this build lacks.
+[[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s);
+/// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
+/// kAmd and kMetis order the block graph of J^T J.
+[[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s);
+
+/// Inverse of a permutation.
+[[nodiscard]] std::vector<int> inversePermutation(const std::vector<int>& perm);
+
+/// The block of every scalar column of a structure.
+[[nodiscard]] std::vector<int> blockOfColumn(const int* block_starts, int num_blocks, int n);
+
+}  // namespace graphslam::solvers::detail

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::solvers: factories of the SuiteSparse backends.
+#pragma once
+
+#include <memory>
+
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam::solvers {
+
+std::unique_ptr<LinearSolver> makeCholmodSolver(bool supernodal, Ordering ordering);
+std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering);
+std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering);
+std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);
+
+}  // namespace graphslam::solvers
