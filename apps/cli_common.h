@@ -58,5 +58,6 @@ int cmdEval(const std::vector<std::string>& args);
 int cmdDeadreckon(const std::vector<std::string>& args);
 int cmdConvert(const std::vector<std::string>& args);
 int cmdInfo(const std::vector<std::string>& args);
+int cmdSolvers(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

@@ -229,12 +229,19 @@ int cmdListSolvers(const std::vector<std::string>& args) {
   Registries reg;
   if (!parseListing(args,
                     "usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers "
-                    "this build knows.",
+                    "this build knows: name, system form (H: normal equations, J: whitened "
+                    "Jacobian), orderings (the first is the default; pick one with "
+                    "--solver NAME:ORDERING), description.",
                     reg)) {
     return kExitOk;
   }
   for (const auto* e : reg.solvers.entries()) {
-    std::printf("%-22s %s  (%s)\n", e->name.c_str(), e->description.c_str(), e->origin.c_str());
+    std::string orderings;
+    for (Ordering o : e->orderings)
+      orderings += (orderings.empty() ? "" : ",") + std::string(toString(o));
+    std::printf("%-20s %-2s %-26s %s  (%s)\n", e->name.c_str(),
+                e->form == SystemForm::kJacobian ? "J" : "H", orderings.c_str(),
+                e->description.c_str(), e->origin.c_str());
   }
   return kExitOk;
 }
@@ -297,6 +304,7 @@ constexpr const char* kMainUsage =
     "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"
     "  convert        relative-pose matrix -> .g2o pose graph; .g2o -> TUM / KITTI\n"
     "  info           counts, components, fixed vertices, sparsity picture of H\n"
+    "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n";
 
@@ -326,6 +334,7 @@ int main(int argc, char** argv) {
     if (command == "deadreckon") return cmdDeadreckon(args);
     if (command == "convert") return cmdConvert(args);
     if (command == "info") return cmdInfo(args);
+    if (command == "solvers") return cmdSolvers(args);
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {

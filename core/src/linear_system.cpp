@@ -188,4 +188,21 @@ const std::vector<Vertex*>& LinearSystem::activeVertices() const {
 const std::vector<Edge*>& LinearSystem::activeEdges() const { return impl_->hessian.activeEdges(); }
 VertexId LinearSystem::vertexOfColumn(int col) const { return impl_->hessian.vertexOfColumn(col); }
 
+Vertex* fixGaugeIfFree(Graph& graph) {
+  const auto& vertices = graph.vertices();
+  const auto& edges = graph.edges();
+  if (std::any_of(vertices.begin(), vertices.end(),
+                  [](const auto& kv) { return kv.second->fixed(); }) ||
+      std::any_of(edges.begin(), edges.end(),
+                  [](const auto& e) { return e->numVertices() == 1; })) {
+    return nullptr;
+  }
+  for (const auto& [id, v] : vertices) {
+    if (v->edges().empty()) continue;
+    v->setFixed(true);
+    return v.get();
+  }
+  return nullptr;
+}
+
 }  // namespace graphslam

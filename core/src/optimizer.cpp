@@ -235,22 +235,13 @@ Summary Optimizer::optimize() {
 
   // Gauge: with nothing fixed and no unary edge, the whole graph can move freely.
   std::vector<Vertex*> gauge_fixed;
-  if (options_.fix_gauge && graph_.numVertices() > 0) {
-    const bool any_fixed = std::any_of(graph_.vertices().begin(), graph_.vertices().end(),
-                                       [](const auto& kv) { return kv.second->fixed(); });
-    const bool any_unary = std::any_of(graph_.edges().begin(), graph_.edges().end(),
-                                       [](const auto& e) { return e->numVertices() == 1; });
-    if (!any_fixed && !any_unary) {
-      for (const auto& [id, v] : graph_.vertices()) {
-        if (v->edges().empty()) continue;
-        v->setFixed(true);
-        gauge_fixed.push_back(v.get());
-        summary.gauge_fixed.push_back(id);
-        log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
-                                 std::to_string(id) +
-                                 " (the lowest id) to remove the gauge freedom");
-        break;
-      }
+  if (options_.fix_gauge) {
+    if (Vertex* v = fixGaugeIfFree(graph_)) {
+      gauge_fixed.push_back(v);
+      summary.gauge_fixed.push_back(v->id());
+      log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
+                               std::to_string(v->id()) +
+                               " (the lowest id) to remove the gauge freedom");
     }
   }
   struct RestoreGauge {

@@ -71,4 +71,9 @@ class LinearSystem {
   std::vector<double> gradient_;
 };
 
+/// If no vertex is fixed and no edge is unary (nothing anchors the graph: relative
+/// measurements leave a gauge freedom), fixes the lowest-id vertex that has edges and
+/// returns it; otherwise returns nullptr. The caller restores the flag when it wants.
+Vertex* fixGaugeIfFree(Graph& graph);
+
 }  // namespace graphslam

@@ -1,0 +1,452 @@
+// SPDX-License-Identifier: MIT
+// graphslam solvers: every linear solver and ordering on one graph's linear system.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli_common.h"
+#include "graphslam/core/error.h"
+#include "graphslam/core/file_util.h"
+#include "graphslam/core/io_g2o.h"
+#include "graphslam/core/linear_system.h"
+#include "graphslam/core/logging.h"
+#include "graphslam/core/optimizer.h"
+#include "plotting.h"
+
+namespace graphslam::apps {
+
+namespace {
+
+constexpr const char* kSolversUsage =
+    "usage: graphslam solvers INPUT [--solvers LIST|all] [--repeats N] [--at optimum|input]\n"
+    "                         [--plot DIR] [--csv FILE] [--slow-max N] [--plugin LIB]...\n"
+    "Solves the linear system of INPUT (.g2o) with every linear solver and ordering (or\n"
+    "those in LIST: names, or name:ordering, comma separated) and prints, per solver and\n"
+    "ordering, the median analyse / factorise / solve times of N runs, the factor's\n"
+    "non-zeros, the relative residual |H dx + g| / |g| and the largest difference to a\n"
+    "reference solution (SuiteSparseQR on J, else Eigen LDL^T). The system is taken at the\n"
+    "optimum (after optimising with --algorithm, at most -i iterations) or at the input's\n"
+    "estimates. --plot DIR writes PNG pictures of the sparsity of H, J and every factor.";
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+/// The linear system of a graph at its current estimates, copied out of LinearSystem.
+struct StudySystem {
+  int n = 0;
+  // H (upper, full diagonal blocks) and g.
+  std::vector<int> h_ptr, h_idx, block_starts;
+  std::vector<double> h_values, gradient;
+  // Whitened J and r (with the damping rows, zero).
+  JacobianStructure j;
+  std::vector<int> j_ptr, j_idx;
+  std::vector<double> j_values, residual;
+  int num_blocks = 0;
+
+  SparseStructure hessian() const {
+    SparseStructure s;
+    s.n = n;
+    s.col_ptr = h_ptr.data();
+    s.row_idx = h_idx.data();
+    s.block_starts = block_starts.data();
+    s.num_blocks = num_blocks;
+    return s;
+  }
+  JacobianStructure jacobian() const {
+    JacobianStructure s = j;
+    s.col_ptr = j_ptr.data();
+    s.row_idx = j_idx.data();
+    s.block_starts = block_starts.data();
+    return s;
+  }
+  std::size_t jacobianNonZeros() const {  // without the damping rows
+    std::size_t nnz = 0;
+    for (int r : j_idx) nnz += r < j.damping_row ? 1u : 0u;
+    return nnz;
+  }
+  /// |H x + g| / |g|.
+  double relativeResidual(const std::vector<double>& x) const {
+    std::vector<double> y(gradient);
+    for (int c = 0; c < n; ++c) {
+      for (int k = h_ptr[c]; k < h_ptr[c + 1]; ++k) {
+        const int r = h_idx[k];
+        if (r > c) continue;
+        y[r] += h_values[k] * x[c];
+        if (r != c) y[c] += h_values[k] * x[r];
+      }
+    }
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < n; ++i) {
+      num += y[i] * y[i];
+      den += gradient[i] * gradient[i];
+    }
+    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  }
+};
+
+StudySystem linearSystemOf(Graph& graph) {
+  LinearSystem ls;
+  ls.update(graph);
+  (void)graph.chi2();  // current errors
+  ls.linearize();
+  StudySystem s;
+  s.n = ls.dimension();
+  const SparseStructure hs = ls.hessianStructure();
+  s.num_blocks = hs.num_blocks;
+  s.h_ptr.assign(hs.col_ptr, hs.col_ptr + hs.n + 1);
+  s.h_idx.assign(hs.row_idx, hs.row_idx + hs.nnz());
+  s.block_starts.assign(hs.block_starts, hs.block_starts + hs.num_blocks + 1);
+  ls.assembleHessian();
+  s.h_values = ls.hessianValues();
+  s.gradient = ls.gradient();
+  s.j = ls.jacobianStructure();
+  s.j_ptr.assign(s.j.col_ptr, s.j.col_ptr + s.j.cols + 1);
+  s.j_idx.assign(s.j.row_idx, s.j.row_idx + s.j.nnz());
+  ls.assembleJacobian();
+  s.j_values = ls.jacobianValues();
+  s.residual = ls.residual();
+  return s;
+}
+
+struct Row {
+  std::string solver, ordering, form;
+  double analyze = 0, factorize = 0, solve = 0;
+  std::size_t factor_nnz = 0;
+  double residual = NAN, max_diff = NAN;
+  std::string status = "ok";
+  std::vector<double> x;
+  std::vector<int> factor_ptr, factor_idx;  // for pictures
+  [[nodiscard]] double total() const { return analyze + factorize + solve; }
+  [[nodiscard]] bool ok() const { return status == "ok"; }
+};
+
+/// Runs one solver spec `repeats` times on fresh instances; the last run's solution.
+Row runSolver(const SolverRegistry& registry, const std::string& name, Ordering ordering,
+              const StudySystem& sys, int repeats, bool want_pattern) {
+  Row row;
+  row.solver = name;
+  row.ordering = toString(ordering);
+  LinearSolverOptions options;
+  options.ordering = ordering;
+  std::vector<double> ta, tf, ts;
+  for (int rep = 0; rep < repeats; ++rep) {
+    auto solver = registry.create(name, options);
+    const bool jac = solver->form() == SystemForm::kJacobian;
+    row.form = jac ? "J" : "H";
+    std::vector<double> rhs;
+    if (jac) {
+      rhs = sys.residual;
+    } else {
+      rhs = sys.gradient;
+    }
+    for (double& v : rhs) v = -v;
+    row.x.assign(static_cast<std::size_t>(sys.n), 0.0);
+    auto t = Clock::now();
+    LinearSolverResult r =
+        jac ? solver->analyzeJacobian(sys.jacobian()) : solver->analyze(sys.hessian());
+    ta.push_back(since(t));
+    if (r.ok()) {
+      t = Clock::now();
+      r = jac ? solver->factorizeJacobian(sys.j_values.data())
+              : solver->factorize(sys.h_values.data());
+      tf.push_back(since(t));
+    }
+    if (r.ok()) {
+      t = Clock::now();
+      r = jac ? solver->solveJacobian(rhs.data(), row.x.data())
+              : solver->solve(rhs.data(), row.x.data());
+      ts.push_back(since(t));
+    }
+    if (!r.ok()) {
+      row.status = std::string(toString(r.status)) + (r.message.empty() ? "" : ": " + r.message);
+      if (r.column >= 0) row.status += " (column " + std::to_string(r.column) + ")";
+      break;
+    }
+    row.factor_nnz = solver->factorNonZeros();
+    if (want_pattern && rep + 1 == repeats) {
+      if (!solver->factorPattern(row.factor_ptr, row.factor_idx)) {
+        row.factor_ptr.clear();
+        row.factor_idx.clear();
+      }
+    }
+  }
+  row.analyze = median(ta);
+  row.factorize = median(tf);
+  row.solve = median(ts);
+  if (row.ok()) row.residual = sys.relativeResidual(row.x);
+  return row;
+}
+
+/// Writes a sparsity pattern for tools/plot/plot_spy.py: a header line
+/// `rows,cols,nnz,title`, then `r,c,count` per occupied cell of a grid of at most
+/// 1000 x 1000 cells (the tool bins large matrices itself).
+void writePattern(const std::string& path, int rows, int cols, const std::vector<int>& ptr,
+                  const std::vector<int>& idx, const std::string& title, bool upper_only) {
+  const int grid = 1000;
+  const double sr = rows > grid ? static_cast<double>(grid) / rows : 1.0;
+  const double sc = cols > grid ? static_cast<double>(grid) / cols : 1.0;
+  std::map<std::pair<int, int>, int> cells;
+  std::size_t nnz = 0;
+  for (int c = 0; c + 1 < static_cast<int>(ptr.size()); ++c) {
+    for (int k = ptr[c]; k < ptr[c + 1]; ++k) {
+      const int r = idx[k];
+      if (upper_only && r > c) continue;
+      ++nnz;
+      ++cells[{static_cast<int>(r * sr), static_cast<int>(c * sc)}];
+    }
+  }
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << rows << ',' << cols << ',' << nnz << ',' << std::min(rows, grid) << ','
+        << std::min(cols, grid) << ',' << title << '\n';
+    for (const auto& [rc, count] : cells)
+      out << rc.first << ',' << rc.second << ',' << count << '\n';
+  });
+}
+
+std::string fmtTime(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", s);
+  return buf;
+}
+
+}  // namespace
+
+int cmdSolvers(const std::vector<std::string>& args) {
+  std::string input, list, plot_dir, csv, at, algorithm;
+  int repeats = 3, slow_max = 6000, iterations = 100;
+  std::vector<std::string> plugins;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+      "solvers", po::value(&list)->default_value("all"),
+      "comma-separated solver names (all their orderings) or name:ordering, or all")(
+      "repeats", po::value(&repeats)->default_value(3), "runs per solver (medians reported)")(
+      "at", po::value(&at)->default_value("optimum"),
+      "linearise at the optimum (optimise first) or at the input's estimates")(
+      "algorithm", po::value(&algorithm)->default_value("auto"),
+      "optimiser for --at optimum: auto, gn or lm")("iterations,i",
+                                                    po::value(&iterations)->default_value(100),
+                                                    "maximum iterations for --at optimum")(
+      "plot", po::value(&plot_dir), "write sparsity pictures (PNG) into this directory")(
+      "csv", po::value(&csv), "write the table as CSV")(
+      "slow-max", po::value(&slow_max)->default_value(6000),
+      "skip dense-ldlt, dense-pinv and eigen-qr above this many unknowns (0: never skip)")(
+      "plugin", po::value(&plugins)->composing(), "load solvers/types from this library");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  const auto vm = parse(args, desc, &pos);
+  if (vm.count("help")) {
+    printHelp(kSolversUsage, desc);
+    return kExitOk;
+  }
+  if (input.empty()) throw UsageError("solvers needs an INPUT file");
+  if (repeats < 1) throw UsageError("--repeats must be at least 1");
+  if (at != "optimum" && at != "input") throw UsageError("--at must be optimum or input");
+  if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  Registries reg;
+  loadRegistries(reg, plugins);
+
+  // The (solver, ordering) pairs to run.
+  std::vector<std::pair<std::string, Ordering>> specs;
+  auto add_all_orderings = [&](const SolverRegistry::Entry& e) {
+    for (Ordering o : e.orderings) specs.emplace_back(e.name, o);
+  };
+  if (list == "all") {
+    for (const auto* e : reg.solvers.entries()) add_all_orderings(*e);
+  } else {
+    std::stringstream ss(list);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      if (item.empty()) continue;
+      if (!reg.solvers.contains(item)) {
+        throw UsageError("unknown solver or ordering '" + item +
+                         "' (graphslam list-solvers shows the known ones)");
+      }
+      const auto colon = item.find(':');
+      const auto* e = reg.solvers.find(item.substr(0, colon));
+      if (colon == std::string::npos) {
+        add_all_orderings(*e);
+      } else {
+        Ordering o;
+        (void)parseOrdering(item.substr(colon + 1), o);
+        specs.emplace_back(e->name, o == Ordering::kDefault ? e->orderings.front() : o);
+      }
+    }
+  }
+  if (specs.empty()) throw UsageError("--solvers lists no solver");
+
+  auto loaded = io::loadG2o(input, reg.types);
+  if (!loaded.ok()) {
+    for (const auto& d : loaded.diagnostics) std::cerr << d.str() << "\n";
+    return kExitBadInput;
+  }
+  Graph& graph = loaded.graph;
+  std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
+  if (at == "optimum") {
+    Optimizer::Options options;
+    options.max_iterations = iterations;
+    if (algorithm == "gn") {
+      options.algorithm = Algorithm::kGaussNewton;
+    } else if (algorithm == "lm") {
+      options.algorithm = Algorithm::kLevenbergMarquardt;
+    } else if (algorithm != "auto") {
+      throw UsageError("--algorithm must be auto, gn or lm");
+    }
+    Optimizer optimizer(graph, reg.solvers, options);
+    const Summary summary = optimizer.optimize();
+    std::printf("optimised first (%s): chi2 %.10g -> %.10g in %d iterations (%s)\n",
+                toString(options.algorithm), summary.initial_chi2, summary.final_chi2,
+                summary.iterations, toString(summary.status));
+    if (!summary.succeeded()) {
+      std::cerr << "optimisation failed: " << summary.message << "\n";
+      return kExitFailed;
+    }
+  }
+  if (Vertex* v = fixGaugeIfFree(graph)) {
+    std::cout << "no vertex is fixed and no prior exists: fixing vertex " << v->id()
+              << " for the study\n";
+  }
+  const StudySystem sys = linearSystemOf(graph);
+  if (sys.n == 0) throw Error(input + ": no free vertex with an edge: there is no system to solve");
+  std::printf(
+      "system: %d unknowns, H %zu stored non-zeros (upper, full diagonal blocks), J %d x %d "
+      "with %zu non-zeros, chi2 %.10g\n",
+      sys.n, sys.h_idx.size(), sys.j.damping_row, sys.n, sys.jacobianNonZeros(), graph.chi2());
+
+  // Reference solution.
+  std::vector<double> reference;
+  std::string reference_name;
+  for (const char* ref : {"spqr", "eigen-ldlt"}) {
+    if (!reg.solvers.contains(ref)) continue;
+    const auto* e = reg.solvers.find(ref);
+    Row r = runSolver(reg.solvers, ref, e->orderings.front(), sys, 1, false);
+    if (r.ok()) {
+      reference = r.x;
+      reference_name = std::string(ref) + ":" + toString(e->orderings.front());
+      break;
+    }
+  }
+  if (reference.empty()) {
+    std::cerr << "no reference solution: the system is singular or indefinite\n";
+  }
+
+  const bool want_pattern = !plot_dir.empty();
+  std::vector<Row> rows;
+  for (const auto& [name, ordering] : specs) {
+    const bool slow = name == "dense-ldlt" || name == "dense-pinv" || name == "eigen-qr";
+    if (slow && slow_max > 0 && sys.n > slow_max) {
+      Row row;
+      row.solver = name;
+      row.ordering = toString(ordering);
+      row.form = reg.solvers.find(name)->form == SystemForm::kJacobian ? "J" : "H";
+      row.status = "skipped: " + std::to_string(sys.n) + " unknowns > --slow-max " +
+                   std::to_string(slow_max) +
+                   (name == "eigen-qr" ? " (Eigen's SparseQR fills R far beyond SPQR's)"
+                                       : " (dense O(n^3))");
+      rows.push_back(std::move(row));
+      continue;
+    }
+    std::cerr << "running " << name << ":" << toString(ordering) << " ...\n";
+    Row row = runSolver(reg.solvers, name, ordering, sys, repeats, want_pattern);
+    if (row.ok() && !reference.empty()) {
+      double m = 0.0;
+      for (int i = 0; i < sys.n; ++i) m = std::max(m, std::abs(row.x[i] - reference[i]));
+      row.max_diff = m;
+    }
+    rows.push_back(std::move(row));
+  }
+
+  // Table.
+  std::printf("\n%-19s %-8s %-4s %10s %10s %10s %10s %12s %10s %10s  %s\n", "solver", "ordering",
+              "form", "analyse s", "factor s", "solve s", "total s", "nnz(factor)", "residual",
+              "max|diff|", "status");
+  for (const Row& r : rows) {
+    if (r.ok()) {
+      std::printf("%-19s %-8s %-4s %10.4g %10.4g %10.4g %10.4g %12zu %10.2e %10.2e  ok\n",
+                  r.solver.c_str(), r.ordering.c_str(), r.form.c_str(), r.analyze, r.factorize,
+                  r.solve, r.total(), r.factor_nnz, r.residual, r.max_diff);
+    } else {
+      std::printf("%-19s %-8s %-4s %10s %10s %10s %10s %12s %10s %10s  %s\n", r.solver.c_str(),
+                  r.ordering.c_str(), r.form.c_str(), "-", "-", "-", "-", "-", "-", "-",
+                  r.status.c_str());
+    }
+  }
+  const Row* fastest = nullptr;
+  for (const Row& r : rows) {
+    if (r.ok() && (!fastest || r.total() < fastest->total())) fastest = &r;
+  }
+  if (fastest) {
+    std::printf("\nfastest: %s:%s, %s s (median of %d); reference %s\n", fastest->solver.c_str(),
+                fastest->ordering.c_str(), fmtTime(fastest->total()).c_str(), repeats,
+                reference_name.empty() ? "none" : reference_name.c_str());
+  }
+
+  if (!csv.empty()) {
+    writeFileAtomically(csv, [&](std::ostream& out) {
+      out.precision(10);
+      out << "solver,ordering,form,n,nnz_matrix,analyze_s,factorize_s,solve_s,total_s,factor_nnz,"
+             "residual,max_diff,status\n";
+      for (const Row& r : rows) {
+        const std::size_t nnz_matrix = r.form == "J" ? sys.jacobianNonZeros() : sys.h_idx.size();
+        std::string status = r.ok() ? "ok" : r.status;
+        std::replace(status.begin(), status.end(), ',', ';');
+        out << r.solver << ',' << r.ordering << ',' << r.form << ',' << sys.n << ',' << nnz_matrix
+            << ',' << r.analyze << ',' << r.factorize << ',' << r.solve << ',' << r.total() << ','
+            << r.factor_nnz << ',' << r.residual << ',' << r.max_diff << ',' << status << '\n';
+      }
+    });
+    std::cout << "wrote " << csv << "\n";
+  }
+
+  if (!plot_dir.empty()) {
+    namespace fs = std::filesystem;
+    fs::create_directories(fs::path(plot_dir) / "data");
+    std::vector<std::string> plot_args{plot_dir};
+    const std::string stem = fs::path(input).stem().string();
+    auto add = [&](const std::string& name, int r, int c, const std::vector<int>& ptr,
+                   const std::vector<int>& idx, const std::string& title, bool upper) {
+      const std::string path = (fs::path(plot_dir) / "data" / (name + ".csv")).string();
+      writePattern(path, r, c, ptr, idx, title, upper);
+      plot_args.push_back(path);
+    };
+    add(stem + "_H", sys.n, sys.n, sys.h_ptr, sys.h_idx, stem + ": H (upper triangle)", true);
+    {
+      // J without its damping rows.
+      std::vector<int> ptr(1, 0), idx;
+      for (int c = 0; c < sys.n; ++c) {
+        for (int k = sys.j_ptr[c]; k < sys.j_ptr[c + 1]; ++k) {
+          if (sys.j_idx[k] < sys.j.damping_row) idx.push_back(sys.j_idx[k]);
+        }
+        ptr.push_back(static_cast<int>(idx.size()));
+      }
+      add(stem + "_J", sys.j.damping_row, sys.n, ptr, idx, stem + ": whitened Jacobian J", false);
+    }
+    for (const Row& r : rows) {
+      if (!r.ok() || r.factor_ptr.empty()) continue;
+      const int cols = static_cast<int>(r.factor_ptr.size()) - 1;
+      int nrows = cols;
+      for (int v : r.factor_idx) nrows = std::max(nrows, v + 1);
+      add(stem + "_" + r.solver + "_" + r.ordering, nrows, cols, r.factor_ptr, r.factor_idx,
+          stem + ": factor of " + r.solver + ", " + r.ordering + " ordering", false);
+    }
+    runPlotScript("plot_spy.py", plot_args);
+    std::cout << "wrote " << plot_args.size() - 1 << " pictures into " << plot_dir << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace graphslam::apps
