@@ -228,7 +228,7 @@ std::string fmtTime(double s) {
 
 int cmdSolvers(const std::vector<std::string>& args) {
   std::string input, list, plot_dir, csv, at, algorithm;
-  int repeats = 3, slow_max = 6000, iterations = 100;
+  int repeats = 3, slow_max = 3000, iterations = 100;
   std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
@@ -243,7 +243,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
                                                     "maximum iterations for --at optimum")(
       "plot", po::value(&plot_dir), "write sparsity pictures (PNG) into this directory")(
       "csv", po::value(&csv), "write the table as CSV")(
-      "slow-max", po::value(&slow_max)->default_value(6000),
+      "slow-max", po::value(&slow_max)->default_value(3000),
       "skip dense-ldlt, dense-pinv and eigen-qr above this many unknowns (0: never skip)")(
       "plugin", po::value(&plugins)->composing(), "load solvers/types from this library");
   po::positional_options_description pos;

@@ -188,6 +188,10 @@ const std::vector<Vertex*>& LinearSystem::activeVertices() const {
 const std::vector<Edge*>& LinearSystem::activeEdges() const { return impl_->hessian.activeEdges(); }
 VertexId LinearSystem::vertexOfColumn(int col) const { return impl_->hessian.vertexOfColumn(col); }
 
+std::vector<std::vector<VertexId>> LinearSystem::unanchoredGroups(std::size_t max_ids) const {
+  return impl_->hessian.unanchoredGroups(max_ids);
+}
+
 Vertex* fixGaugeIfFree(Graph& graph) {
   const auto& vertices = graph.vertices();
   const auto& edges = graph.edges();

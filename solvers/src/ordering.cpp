@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "graphslam/core/block_ordering.h"
 #include "graphslam/core/error.h"
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
@@ -180,6 +181,7 @@ std::vector<Ordering> availableOrderings() {
 }
 
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
+  if (ordering == Ordering::kAmd || ordering == Ordering::kDefault) return blockAmdOrdering(s);
   return expand(orderBlockGraph(ordering, blockGraph(s)), s.block_starts, s.n);
 }
 

@@ -61,6 +61,9 @@ class LinearSystem {
   [[nodiscard]] const std::vector<Edge*>& activeEdges() const;
   /// Id of the vertex owning column `col`, -1 if out of range.
   [[nodiscard]] VertexId vertexOfColumn(int col) const;
+  /// Connected groups of active vertices with no fixed vertex and no unary edge (their
+  /// position is undetermined), each with up to `max_ids` ids, smallest first.
+  [[nodiscard]] std::vector<std::vector<VertexId>> unanchoredGroups(std::size_t max_ids = 20) const;
 
  private:
   struct Impl;
