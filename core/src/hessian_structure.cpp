@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "hessian_structure.h"
 
-#include "graphslam/core/linear_system.h"
-
 #include <algorithm>
 #include <numeric>
 #include <unordered_map>
+
+#include "graphslam/core/linear_system.h"
 
 namespace graphslam::detail {
 

@@ -114,6 +114,12 @@ class EigenQrSolver final : public LinearSolver {
       variants_[damped].analyzed = false;
     }
     active_ = nullptr;
+    // The undamped pattern is the common case: analyse it now (values are ignored).
+    Variant& v = variants_[0];
+    values_.assign(v.columns.source.size(), 0.0);
+    v.matrix = v.columns.map(values_);
+    v.qr.analyzePattern(v.matrix);
+    v.analyzed = true;
     return LinearSolverResult::success();
   }
 

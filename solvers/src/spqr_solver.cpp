@@ -77,6 +77,16 @@ class SpqrSolver final : public LinearSolver {
       v.a.packed = 1;
     }
     active_ = nullptr;
+    // The undamped pattern is the common case: analyse it now (values are ignored).
+    Variant& v = variants_[0];
+    v.values.assign(v.source.size(), 0.0);
+    v.a.x = v.values.data();
+    v.qr = SuiteSparseQR_symbolic<double>(spqrOrdering(ordering_), 1, &v.a, &cc_);
+    if (!v.qr) {
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "SuiteSparseQR_symbolic failed (status " + std::to_string(cc_.status) + ")");
+    }
     return LinearSolverResult::success();
   }
 
