@@ -15,6 +15,7 @@
 #include "graphslam/core/trajectory.h"
 #include "graphslam/core/trajectory_metrics.h"
 #include "graphslam/types_slam2d/pose_graph_io.h"
+#include "input.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -404,7 +405,8 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::string input, plot;
   std::vector<std::string> plugins;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+                                                 "input .g2o file or CMU 16-833 homework .npz")(
       "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
       "plugin", po::value(&plugins)->composing(),
       "load types from this shared library (repeatable)");
@@ -413,7 +415,7 @@ int cmdInfo(const std::vector<std::string>& args) {
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam info IN.g2o [--plot-hessian FILE.png]\n"
+        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png]\n"
         "Counts per type, connected components, fixed vertices, and the sparsity of H.",
         desc);
     return kExitOk;
@@ -421,7 +423,12 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (input.empty()) throw UsageError("info needs an input file");
   Registries reg;
   loadRegistries(reg, plugins);
-  const Graph graph = loadGraphOrThrow(input, reg);
+  const LoadedInput in = loadInput(input, reg.types);
+  const Graph& graph = in.graph;
+  if (in.format != "g2o") {
+    std::printf("%s: %s\n", input.c_str(), in.description.c_str());
+    for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
+  }
   std::map<std::string, std::size_t> counts;
   for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
   for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
