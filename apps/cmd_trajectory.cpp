@@ -300,8 +300,9 @@ int cmdEval(const std::vector<std::string>& args) {
 int cmdDeadreckon(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
-                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+  desc.add_options()("help,h", "show this help")(
+      "input", po::value(&input),
+      "3xN relative-pose matrix file, a .g2o graph or a .npz homework file")(
       "output,o", po::value(&output), "write the trajectory (TUM, or KITTI for .kitti)")(
       "format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti");
   po::positional_options_description pos;
@@ -348,8 +349,9 @@ int cmdConvert(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   std::vector<double> info;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
-                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+  desc.add_options()("help,h", "show this help")(
+      "input", po::value(&input),
+      "3xN relative-pose matrix file, a .g2o graph or a .npz homework file")(
       "output", po::value(&output),
       "OUT.g2o (from a matrix), or OUT.tum / OUT.kitti (from a .g2o)")(
       "no-loop-closure",
@@ -363,6 +365,8 @@ int cmdConvert(const std::vector<std::string>& args) {
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam convert IN OUT\n"
+        "  .npz -> .g2o: a CMU 16-833 homework file as a point-robot graph (initial guess as "
+        "estimates)\n"
         "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
         "pose 0)\n"
         "  .g2o -> TUM/KITTI: the VERTEX_SE2 estimates as a trajectory (timestamp = id)",
@@ -372,6 +376,14 @@ int cmdConvert(const std::vector<std::string>& args) {
   if (input.empty() || output.empty()) throw UsageError("convert needs IN and OUT");
   Registries reg;
   loadRegistries(reg, {});
+  if (endsWith(input, ".npz")) {
+    if (!endsWith(output, ".g2o")) throw UsageError("a .npz homework file converts to a .g2o file");
+    const LoadedInput in = loadInput(input, reg.types);
+    io::saveG2o(output, in.graph, reg.types);
+    std::printf("wrote %s: %s (the file's initial guess as estimates)\n", output.c_str(),
+                in.description.c_str());
+    return kExitOk;
+  }
   if (endsWith(input, ".g2o")) {
     const Trajectory t = types_slam2d::trajectoryFromGraph(loadGraphOrThrow(input, reg));
     saveTrajectory(output, t, format);

@@ -10,8 +10,9 @@ init_states and 10 Gauss-Newton iterations) and times each method, median of --r
     A^T A and A^T b (and, for lu/lu_colamd, extracting U as the homework does);
   - "factor+solve": with A^T A (CSC) and A^T b formed beforehand, only the factorisation
     and the solve.
-Methods: default (spsolve: SuperLU, COLAMD), pinv (scipy.sparse.linalg.inv), lu
-(splu NATURAL), lu_colamd (splu COLAMD). The homework's qr/qr_colamd use sparseqr
+Methods: default (spsolve: SuperLU, COLAMD), pinv (scipy.sparse.linalg.inv; Python
+evaluates the homework's inv(A^T A) @ A^T @ b left to right, so on the coursework basis
+the sparse product inv(A^T A) @ A^T dominates), lu (splu NATURAL), lu_colamd (splu COLAMD). The homework's qr/qr_colamd use sparseqr
 (PySPQR), which Debian does not package (nor any other sparse QR for Python: SuiteSparse
 SPQR is there only as the C library libspqr2): the script times a dense numpy.linalg.qr
 of A instead ("qr_dense") where A fits in --dense-qr-limit-mb, and skips qr_colamd (a
@@ -152,6 +153,7 @@ class Problem:
             b[first:] = (dz @ w_l.T).ravel()
         a = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                           shape=(len(b), self.size()))
+        a.eliminate_zeros()  # as csr_matrix(dense A) in the homework: zero entries are not stored
         return a, b
 
     def init_states(self):
