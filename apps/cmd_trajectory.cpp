@@ -485,8 +485,13 @@ int cmdInfo(const std::vector<std::string>& args) {
     if (!v->fixed()) continue;
     if (++num_fixed <= 20) fixed += " " + std::to_string(id);
   }
+  std::size_t priors = 0;
+  for (const auto& e : graph.edges()) priors += e->numVertices() == 1 ? 1 : 0;
   std::printf("fixed vertices: %zu%s%s\n", num_fixed,
-              num_fixed ? ":" : " (the optimizer fixes the lowest id)", fixed.c_str());
+              num_fixed ? ":"
+              : priors  ? " (unary edges anchor the graph)"
+                        : " (the optimizer fixes the lowest id)",
+              fixed.c_str());
   std::printf("information matrix H: %d x %d\n", n, n);
 
   if (!plot.empty()) {
