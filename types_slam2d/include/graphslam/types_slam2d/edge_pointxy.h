@@ -11,7 +11,7 @@ namespace graphslam::types_slam2d {
 /// information). Serves both the odometry of a point robot (pose a -> pose b) and a
 /// landmark seen from a point robot (pose a -> landmark b): the two are the same function
 /// of the same vertex types, so one type and one tag cover both, as in g2o.
-/// Error: e = (x_b - x_a) - z. Analytic Jacobians (-I, I).
+/// Error: e = (x_b - x_a) - z. Analytic Jacobians (-I, I) w.r.t. VertexXY's additive update.
 class EdgePointXY final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
  public:
   EdgePointXY() { setMeasurement(Eigen::Vector2d::Zero()); }

@@ -8,7 +8,7 @@ namespace graphslam::types_slam2d {
 
 /// Absolute position prior on a point — `.g2o` tag EDGE_PRIOR_XY (g2o's tag and format:
 /// measurement x y, then the upper triangle of the 2x2 information).
-/// Error: e = x - z. Analytic Jacobian (I).
+/// Error: e = x - z. Analytic Jacobian (I) w.r.t. VertexXY's additive update.
 class EdgePriorXY final : public BaseUnaryEdge<2, Eigen::Vector2d, VertexXY> {
  public:
   EdgePriorXY() { setMeasurement(Eigen::Vector2d::Zero()); }

@@ -15,8 +15,8 @@ namespace graphslam::types_slam2d {
 /// world-frame direction of d = l - r. This is the observation model of the CMU 16-833
 /// nonlinear SLAM homework.
 /// Error: e = [wrap(atan2(d_y, d_x) - z_bearing); |d| - z_range], wrap to [-pi, pi) as
-/// the homework's warp2pi(a) = a - 2 pi floor((a + pi) / (2 pi)). Analytic Jacobians
-/// (undefined when r and l coincide).
+/// the homework's warp2pi(a) = a - 2 pi floor((a + pi) / (2 pi)). Analytic Jacobians w.r.t.
+/// VertexXY's additive update (undefined when r and l coincide).
 class EdgeXYBearingRange final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
  public:
   EdgeXYBearingRange() { setMeasurement(Eigen::Vector2d::Zero()); }
