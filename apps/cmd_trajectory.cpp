@@ -15,6 +15,7 @@
 #include "graphslam/core/trajectory.h"
 #include "graphslam/core/trajectory_metrics.h"
 #include "graphslam/types_slam2d/pose_graph_io.h"
+#include "input.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -299,8 +300,9 @@ int cmdEval(const std::vector<std::string>& args) {
 int cmdDeadreckon(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
-                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+  desc.add_options()("help,h", "show this help")(
+      "input", po::value(&input),
+      "3xN relative-pose matrix file, a .g2o graph or a .npz homework file")(
       "output,o", po::value(&output), "write the trajectory (TUM, or KITTI for .kitti)")(
       "format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti");
   po::positional_options_description pos;
@@ -347,8 +349,9 @@ int cmdConvert(const std::vector<std::string>& args) {
   std::string input, output, format = "auto";
   std::vector<double> info;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
-                                                 "3xN relative-pose matrix file, or a .g2o graph")(
+  desc.add_options()("help,h", "show this help")(
+      "input", po::value(&input),
+      "3xN relative-pose matrix file, a .g2o graph or a .npz homework file")(
       "output", po::value(&output),
       "OUT.g2o (from a matrix), or OUT.tum / OUT.kitti (from a .g2o)")(
       "no-loop-closure",
@@ -362,6 +365,8 @@ int cmdConvert(const std::vector<std::string>& args) {
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam convert IN OUT\n"
+        "  .npz -> .g2o: a CMU 16-833 homework file as a point-robot graph (initial guess as "
+        "estimates)\n"
         "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
         "pose 0)\n"
         "  .g2o -> TUM/KITTI: the VERTEX_SE2 estimates as a trajectory (timestamp = id)",
@@ -371,6 +376,14 @@ int cmdConvert(const std::vector<std::string>& args) {
   if (input.empty() || output.empty()) throw UsageError("convert needs IN and OUT");
   Registries reg;
   loadRegistries(reg, {});
+  if (endsWith(input, ".npz")) {
+    if (!endsWith(output, ".g2o")) throw UsageError("a .npz homework file converts to a .g2o file");
+    const LoadedInput in = loadInput(input, reg.types);
+    io::saveG2o(output, in.graph, reg.types);
+    std::printf("wrote %s: %s (the file's initial guess as estimates)\n", output.c_str(),
+                in.description.c_str());
+    return kExitOk;
+  }
   if (endsWith(input, ".g2o")) {
     const Trajectory t = types_slam2d::trajectoryFromGraph(loadGraphOrThrow(input, reg));
     saveTrajectory(output, t, format);
@@ -404,7 +417,8 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::string input, plot;
   std::vector<std::string> plugins;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+                                                 "input .g2o file or CMU 16-833 homework .npz")(
       "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
       "plugin", po::value(&plugins)->composing(),
       "load types from this shared library (repeatable)");
@@ -413,7 +427,7 @@ int cmdInfo(const std::vector<std::string>& args) {
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam info IN.g2o [--plot-hessian FILE.png]\n"
+        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png]\n"
         "Counts per type, connected components, fixed vertices, and the sparsity of H.",
         desc);
     return kExitOk;
@@ -421,7 +435,12 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (input.empty()) throw UsageError("info needs an input file");
   Registries reg;
   loadRegistries(reg, plugins);
-  const Graph graph = loadGraphOrThrow(input, reg);
+  const LoadedInput in = loadInput(input, reg.types);
+  const Graph& graph = in.graph;
+  if (in.format != "g2o") {
+    std::printf("%s: %s\n", input.c_str(), in.description.c_str());
+    for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
+  }
   std::map<std::string, std::size_t> counts;
   for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
   for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
@@ -466,8 +485,13 @@ int cmdInfo(const std::vector<std::string>& args) {
     if (!v->fixed()) continue;
     if (++num_fixed <= 20) fixed += " " + std::to_string(id);
   }
+  std::size_t priors = 0;
+  for (const auto& e : graph.edges()) priors += e->numVertices() == 1 ? 1 : 0;
   std::printf("fixed vertices: %zu%s%s\n", num_fixed,
-              num_fixed ? ":" : " (the optimizer fixes the lowest id)", fixed.c_str());
+              num_fixed ? ":"
+              : priors  ? " (unary edges anchor the graph)"
+                        : " (the optimizer fixes the lowest id)",
+              fixed.c_str());
   std::printf("information matrix H: %d x %d\n", n, n);
 
   if (!plot.empty()) {

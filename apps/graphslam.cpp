@@ -3,8 +3,10 @@
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,9 +21,12 @@
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
 #include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/types_slam2d/point_ground_truth.h"
 #include "graphslam/types_slam2d/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
+#include "input.h"
+#include "plotting.h"
 
 using namespace graphslam;
 using namespace graphslam::apps;
@@ -32,17 +37,70 @@ namespace {
 // optimize
 
 constexpr const char* kOptimizeUsage =
-    "usage: graphslam optimize [IN.g2o] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm] [--solver "
-    "NAME]\n"
-    "                          [--init global|none] [--plugin LIB]... [--stats FILE.csv] "
-    "[--quiet]\n"
+    "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm]\n"
+    "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin LIB]...\n"
+    "                          [--stats FILE.csv] [--plot FILE.png] [--quiet]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
-    "Optimises a .g2o graph and prints one line per iteration and a summary.\n"
+    "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
+    "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
     "--marginals writes the marginal covariance of every non-fixed vertex at the optimum, one\n"
     "line per vertex: its id, then the upper triangle of its covariance row by row (x y theta:\n"
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
     "remove the gauge freedom gets zeros; the others are relative to it.";
+
+/// Positions of the vertices that have one (see types_slam2d::vertexPosition), by id.
+std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph) {
+  std::map<VertexId, Eigen::Vector2d> out;
+  for (const auto& [id, v] : graph.vertices()) {
+    Eigen::Vector2d p;
+    if (types_slam2d::vertexPosition(*v, p)) out.emplace(id, p);
+  }
+  return out;
+}
+
+void printErrors(const char* what, const types_slam2d::PositionErrorStats& before,
+                 const types_slam2d::PositionErrorStats& after) {
+  if (!after.count) return;
+  std::printf(
+      "  %-10s %5zu   rmse %.6f  mean %.6f  max %.6f   ->   rmse %.6f  mean %.6f  max %.6f\n", what,
+      after.count, before.rmse, before.mean, before.max, after.rmse, after.mean, after.max);
+}
+
+/// Writes the before/after/ground-truth positions as CSV and draws them (plot_points.py).
+/// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
+void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
+                const std::map<VertexId, Eigen::Vector2d>& initial,
+                const types_slam2d::PointGroundTruth& truth) {
+  std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
+  if (truth.empty()) {
+    for (const auto& [id, v] : graph.vertices()) {
+      if (dynamic_cast<const types_slam2d::VertexSE2*>(v.get())) pose_ids.insert(id);
+    }
+  }
+  const std::string data = png + ".points.csv";
+  writeFileAtomically(data, [&](std::ostream& out) {
+    out.precision(17);
+    out << "set,role,id,x,y\n";
+    auto write = [&](const char* set, const std::map<VertexId, Eigen::Vector2d>& points) {
+      for (const auto& [id, p] : points) {
+        out << set << ',' << (pose_ids.count(id) ? "pose" : "landmark") << ',' << id << ',' << p.x()
+            << ',' << p.y() << '\n';
+      }
+    };
+    write("initial", initial);
+    write("final", positions(graph));
+    std::map<VertexId, Eigen::Vector2d> gt;
+    for (std::size_t k = 0; k < truth.pose_ids.size(); ++k) gt[truth.pose_ids[k]] = truth.poses[k];
+    for (std::size_t k = 0; k < truth.landmark_ids.size(); ++k) {
+      gt[truth.landmark_ids[k]] = truth.landmarks[k];
+    }
+    write("truth", gt);
+  });
+  runPlotScript("plot_points.py", {data, png, title});
+  std::remove(data.c_str());
+  std::printf("wrote %s\n", png.c_str());
+}
 
 std::string csvLine(const IterationStats& s) {
   std::ostringstream o;
@@ -87,13 +145,14 @@ int writeMarginals(Graph& graph, const TypeRegistry& types, const std::string& p
 }
 
 int cmdOptimize(const std::vector<std::string>& args) {
-  std::string input, output, algorithm, solver, stats_file;
+  std::string input, output, algorithm, solver, stats_file, plot, npz_model;
   int iterations = 100;
   std::vector<std::string> plugins;
   std::string damping, init, marginals_file, marginals_tag;
   Optimizer::Options options;
   po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
+  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+                                                 "input .g2o file or CMU 16-833 homework .npz")(
       "output,o", po::value(&output), "write the optimised graph here (atomically)")(
       "iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")(
       "algorithm", po::value(&algorithm)->default_value("auto"),
@@ -103,9 +162,15 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "plugin", po::value(&plugins)->composing(),
       "load types/solvers from this shared library (repeatable)")(
       "stats", po::value(&stats_file), "write per-iteration statistics as CSV")(
-      "init", po::value(&init)->default_value("global"),
-      "initial guess: none (the file's estimates) or global (SE(2) orientations, then positions, "
-      "by linear least squares)")("quiet,q", "print only the summary")(
+      "init", po::value(&init)->default_value("auto"),
+      "initial guess: none (the file's estimates), global (SE(2) orientations, then positions, "
+      "by linear least squares; only SE(2) graphs) or auto (none for .npz files, which carry the "
+      "homework's initial guess; global otherwise)")(
+      "npz-model", po::value(&npz_model)->default_value("auto"),
+      "observations of a .npz file: auto (decided from the file), linear or bearing-range")(
+      "plot", po::value(&plot),
+      "draw the initial and final positions (and the ground truth) into this PNG")(
+      "quiet,q", "print only the summary")(
       "step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance),
       "converged when the Euclidean norm of the update is below this")(
       "function-tolerance",
@@ -165,23 +230,33 @@ int cmdOptimize(const std::vector<std::string>& args) {
     }
   }
 
-  Graph graph;
+  InputOptions input_options;
+  input_options.npz_model = parseNpzModel(npz_model);
+  if (init != "auto" && init != "global" && init != "none") {
+    throw UsageError("--init must be auto, none or global, not '" + init + "'");
+  }
+  LoadedInput in;
   if (input.empty()) {
     types_slam2d::ManhattanOptions sim;
     std::cout
         << "no input given: optimising the built-in default graph (simulated Manhattan world, "
         << sim.num_poses << " poses, seed " << sim.seed << ")\n";
     auto simulated = types_slam2d::simulateManhattan(sim);
-    graph = std::move(simulated.graph);
+    in.graph = std::move(simulated.graph);
   } else {
-    auto loaded = io::loadG2o(input, reg.types);
-    if (!loaded.ok()) {
-      for (const auto& d : loaded.diagnostics) std::cerr << d.str() << "\n";
-      return kExitBadInput;
-    }
-    graph = std::move(loaded.graph);
+    in = loadInput(input, reg.types, input_options);
+    std::cout << input << ": " << in.description << "\n";
+    for (const auto& note : in.notes) std::cout << "  " << note << "\n";
   }
+  Graph& graph = in.graph;
   std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
+  if (init == "auto") {
+    init = in.keep_initial_guess ? "none" : "global";
+    if (in.keep_initial_guess) {
+      std::cout << "initialisation: none (keeping the file's initial guess; --init global "
+                   "applies to SE(2) graphs only)\n";
+    }
+  }
   if (init == "global") {
     const auto r = types_slam2d::initializeGlobal(graph);
     if (!r.message.empty()) {
@@ -192,9 +267,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
           "%.4f s\n",
           r.poses, r.landmarks, r.wrapped_edges, r.seconds);
     }
-  } else if (init != "none") {
-    throw UsageError("--init must be none or global, not '" + init + "'");
   }
+  const auto initial_positions = positions(graph);
+  const auto initial_errors = types_slam2d::positionErrors(graph, in.ground_truth);
 
   const bool quiet = vm.count("quiet") != 0;
   std::vector<std::string> csv;
@@ -214,7 +289,12 @@ int cmdOptimize(const std::vector<std::string>& args) {
   Optimizer optimizer(graph, reg.solvers, options);
   const Summary summary = optimizer.optimize();
   std::cout << summary.report() << "\n";
-
+  if (!in.ground_truth.empty()) {
+    const auto final_errors = types_slam2d::positionErrors(graph, in.ground_truth);
+    std::printf("position error vs ground truth (m), initial -> final:\n");
+    printErrors("poses", initial_errors.poses, final_errors.poses);
+    printErrors("landmarks", initial_errors.landmarks, final_errors.landmarks);
+  }
   if (!stats_file.empty()) {
     writeFileAtomically(stats_file, [&](std::ostream& out) {
       out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
@@ -231,6 +311,13 @@ int cmdOptimize(const std::vector<std::string>& args) {
   if (!output.empty()) {
     io::saveG2o(output, graph, reg.types);
     std::cout << "wrote " << output << "\n";
+  }
+  if (!plot.empty()) {
+    std::ostringstream title;
+    title << (input.empty() ? std::string("built-in default graph") : input) << ": chi2 "
+          << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
+          << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
+    plotPoints(plot, title.str(), graph, initial_positions, in.ground_truth);
   }
   if (!marginals_file.empty())
     return writeMarginals(graph, reg.types, marginals_file, marginals_tag);
@@ -357,7 +444,7 @@ constexpr const char* kMainUsage =
     "usage: graphslam COMMAND [options]   (graphslam COMMAND --help for each)\n"
     "\n"
     "commands:\n"
-    "  optimize       optimise a .g2o graph (or the built-in default graph)\n"
+    "  optimize       optimise a .g2o graph, a .npz homework file or the built-in default graph\n"
     "  simulate       write a synthetic Manhattan-world graph with ground truth\n"
     "  eval           trajectory error: eval ape|rpe REF EST (evo's definitions)\n"
     "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"

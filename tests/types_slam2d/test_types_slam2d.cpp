@@ -7,9 +7,12 @@
 
 #include "../common/edge_type_checks.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/types_slam2d/edge_pointxy.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/edge_xy_bearing_range.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
@@ -80,24 +83,88 @@ struct EdgeFactory<EdgeSE2XY> {
   }
 };
 
+/// A prior E on one vertex (id 0) at a random estimate, with a random measurement.
+template <typename E, typename Random>
+E* makePrior(Graph& g, std::mt19937& rng, Random random) {
+  auto a = std::make_unique<typename E::template VertexXi<0>>();
+  a->setId(0);
+  a->setEstimate(random(rng));
+  g.addVertex(std::move(a));
+  auto e = std::make_unique<E>();
+  e->setVertexIds({0});
+  e->setMeasurement(random(rng));
+  e->setInformation(randomInformation<E::kDimension>(rng));
+  return static_cast<E*>(&g.addEdge(std::move(e)));
+}
+
 template <>
 struct EdgeFactory<EdgePriorSE2> {
   static EdgePriorSE2* make(Graph& g, std::mt19937& rng) {
-    auto a = std::make_unique<VertexSE2>();
-    a->setId(0);
-    a->setEstimate(randomPose(rng));
-    g.addVertex(std::move(a));
-    auto e = std::make_unique<EdgePriorSE2>();
-    e->setVertexIds({0});
-    e->setMeasurement(randomPose(rng));
-    e->setInformation(randomInformation<3>(rng));
-    return static_cast<EdgePriorSE2*>(&g.addEdge(std::move(e)));
+    return makePrior<EdgePriorSE2>(g, rng, randomPose);
+  }
+};
+
+/// Two VertexXY at `r` (id 0) and `l` (id 1) and an edge E from r to l.
+template <typename E>
+E& pointEdge(Graph& g, const Eigen::Vector2d& r, const Eigen::Vector2d& l,
+             const Eigen::Vector2d& z) {
+  for (const auto& [id, p] : {std::pair{0, r}, std::pair{1, l}}) {
+    auto v = std::make_unique<VertexXY>();
+    v->setId(id);
+    v->setEstimate(p);
+    g.addVertex(std::move(v));
+  }
+  auto e = std::make_unique<E>();
+  e->setVertexIds({0, 1});
+  e->setMeasurement(z);
+  auto& edge = static_cast<E&>(g.addEdge(std::move(e)));
+  edge.computeError();
+  return edge;
+}
+
+/// Two random VertexXY at least 0.5 apart, and edge E between them.
+template <typename E>
+E* makePointPair(Graph& g, std::mt19937& rng, const Eigen::Vector2d& measurement) {
+  Eigen::Vector2d pa = randomPoint(rng), pb = randomPoint(rng);
+  while ((pb - pa).norm() < 0.5) pb = randomPoint(rng);
+  E& e = pointEdge<E>(g, pa, pb, measurement);
+  e.setInformation(randomInformation<2>(rng));
+  return &e;
+}
+
+template <>
+struct EdgeFactory<EdgePointXY> {
+  static EdgePointXY* make(Graph& g, std::mt19937& rng) {
+    return makePointPair<EdgePointXY>(g, rng, randomPoint(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeXYBearingRange> {
+  static EdgeXYBearingRange* make(Graph& g, std::mt19937& rng) {
+    // Bearings as in the homework's data: near the true one, not wrapped (k * 2 pi added).
+    std::uniform_real_distribution<double> noise(-0.3, 0.3);
+    std::uniform_int_distribution<int> turns(-1, 1);
+    EdgeXYBearingRange* e = makePointPair<EdgeXYBearingRange>(g, rng, Eigen::Vector2d::Zero());
+    const Eigen::Vector2d d = static_cast<const VertexXY*>(g.vertex(1))->estimate() -
+                              static_cast<const VertexXY*>(g.vertex(0))->estimate();
+    e->setMeasurement(Eigen::Vector2d(std::atan2(d.y(), d.x()) + noise(rng) + 2 * kPi * turns(rng),
+                                      d.norm() + noise(rng)));
+    return e;
+  }
+};
+
+template <>
+struct EdgeFactory<EdgePriorXY> {
+  static EdgePriorXY* make(Graph& g, std::mt19937& rng) {
+    return makePrior<EdgePriorXY>(g, rng, randomPoint);
   }
 };
 
 template <typename E>
 class TypesSlam2d_Edge : public ::testing::Test {};
-using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2>;
+using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY,
+                                   EdgeXYBearingRange, EdgePriorXY>;
 TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
@@ -160,10 +227,46 @@ TEST(TypesSlam2d_EdgeSE2, ErrorFollowsG2oConvention) {
   EXPECT_NEAR(edge.error()[2], 0.0, 1e-12);
 }
 
+TEST(TypesSlam2d_EdgePointXY, ErrorIsDisplacementMinusMeasurement) {
+  Graph g;
+  auto& e = pointEdge<EdgePointXY>(g, {1, 2}, {4, -1}, {2.5, -3});
+  EXPECT_NEAR(e.error()[0], 0.5, 1e-15);
+  EXPECT_NEAR(e.error()[1], 0.0, 1e-15);
+}
+
+TEST(TypesSlam2d_EdgeXYBearingRange, ErrorWrapsAsTheHomework) {
+  // The homework's warp2pi(a) = a - 2 pi floor((a + pi) / (2 pi)).
+  auto warp2pi = [](double a) { return a - 2 * kPi * std::floor((a + kPi) / (2 * kPi)); };
+  Graph g;
+  // Landmark straight behind the robot (bearing pi); the measurement -3.2386 is unwrapped,
+  // like the smallest bearing in 2d_nonlinear.npz.
+  auto& e = pointEdge<EdgeXYBearingRange>(g, {1, 1}, {-2, 1}, {-3.2386, 2.5});
+  EXPECT_NEAR(e.error()[0], warp2pi(kPi - -3.2386), 1e-12);
+  EXPECT_NEAR(e.error()[0], 3.2386 - kPi, 1e-12);  // pi + 3.2386 wrapped
+  EXPECT_NEAR(e.error()[1], 0.5, 1e-15);
+  for (double a : {-7.0, -3.5, -kPi, -1.0, 0.0, 2.0, kPi - 1e-9, 4.0, 9.5}) {
+    EXPECT_NEAR(normalizeAngle(a), warp2pi(a), 1e-12) << a;
+  }
+}
+
+TEST(TypesSlam2d_EdgeXYBearingRange, JacobianIsTheHomeworksHl) {
+  // H_l = [[dy/q, -dx/q, -dy/q, dx/q], [-dx/d, -dy/d, dx/d, dy/d]] for the prediction h;
+  // our error is h - z, so its Jacobian is H_l.
+  Graph g;
+  auto& e = pointEdge<EdgeXYBearingRange>(g, {0.5, -1}, {2.5, 0.5}, {0.6, 2.4});
+  e.linearizeOplus();
+  const double dx = 2, dy = 1.5, q = dx * dx + dy * dy, d = std::sqrt(q);
+  Eigen::Matrix<double, 2, 4> expected;
+  expected << dy / q, -dx / q, -dy / q, dx / q, -dx / d, -dy / d, dx / d, dy / d;
+  EXPECT_TRUE(e.jacobian<0>().isApprox(expected.leftCols<2>(), 1e-14));
+  EXPECT_TRUE(e.jacobian<1>().isApprox(expected.rightCols<2>(), 1e-14));
+}
+
 TEST(TypesSlam2d_Register, AllTagsRegistered) {
   TypeRegistry types;
   registerTypes(types);
-  for (const char* tag : {"VERTEX_SE2", "VERTEX_XY", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2"}) {
+  for (const char* tag : {"VERTEX_SE2", "VERTEX_XY", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
+                          "EDGE_POINTXY", "EDGE_PRIOR_XY", "EDGE_XY_BEARING_RANGE"}) {
     EXPECT_TRUE(types.contains(tag)) << tag;
   }
   EXPECT_THROW(registerTypes(types), RegistryError);  // duplicates are refused

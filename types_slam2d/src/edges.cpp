@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
+#include "graphslam/types_slam2d/edge_pointxy.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/edge_xy_bearing_range.h"
 
 namespace graphslam::types_slam2d {
 
@@ -48,6 +51,24 @@ void EdgePriorSE2::linearizeOplus() {
   j.setZero();
   j.topLeftCorner<2, 2>() = measurement().rotation().transpose();
   j(2, 2) = 1.0;
+}
+
+void EdgePointXY::linearizeOplus() {
+  jacobian<0>() = -Eigen::Matrix2d::Identity();
+  jacobian<1>() = Eigen::Matrix2d::Identity();
+}
+
+void EdgePriorXY::linearizeOplus() { jacobian<0>().setIdentity(); }
+
+void EdgeXYBearingRange::linearizeOplus() {
+  const Eigen::Vector2d d = vertexXi<1>().estimate() - vertexXi<0>().estimate();
+  const double q = d.squaredNorm();
+  const double range = std::sqrt(q);
+  // Rows: bearing, range; columns: the landmark's x, y (the robot's are the negatives).
+  Eigen::Matrix2d j_l;
+  j_l << -d.y() / q, d.x() / q, d.x() / range, d.y() / range;
+  jacobian<0>() = -j_l;
+  jacobian<1>() = j_l;
 }
 
 }  // namespace graphslam::types_slam2d

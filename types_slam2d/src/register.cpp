@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/types_slam2d/register.h"
 
+#include "graphslam/types_slam2d/edge_pointxy.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/edge_xy_bearing_range.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -16,6 +19,9 @@ void registerTypes(TypeRegistry& registry) {
   registry.registerEdge<EdgeSE2>("EDGE_SE2");
   registry.registerEdge<EdgeSE2XY>("EDGE_SE2_XY");
   registry.registerEdge<EdgePriorSE2>("EDGE_PRIOR_SE2");
+  registry.registerEdge<EdgePointXY>("EDGE_POINTXY");
+  registry.registerEdge<EdgePriorXY>("EDGE_PRIOR_XY");
+  registry.registerEdge<EdgeXYBearingRange>("EDGE_XY_BEARING_RANGE");
   registry.setOrigin("");
 }
 

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include "input.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "cli_common.h"
+#include "graphslam/core/error.h"
+#include "graphslam/core/io_g2o.h"
+
+namespace graphslam::apps {
+
+namespace {
+bool hasExtension(const std::string& path, const std::string& ext) {
+  if (path.size() < ext.size()) return false;
+  return std::equal(ext.rbegin(), ext.rend(), path.rbegin(), [](char a, char b) {
+    return std::tolower(static_cast<unsigned char>(a)) ==
+           std::tolower(static_cast<unsigned char>(b));
+  });
+}
+}  // namespace
+
+types_slam2d::PointObservationModel parseNpzModel(const std::string& text) {
+  using types_slam2d::PointObservationModel;
+  for (auto m : {PointObservationModel::kAuto, PointObservationModel::kLinear,
+                 PointObservationModel::kBearingRange}) {
+    if (text == types_slam2d::toString(m)) return m;
+  }
+  throw UsageError("--npz-model must be auto, linear or bearing-range, not '" + text + "'");
+}
+
+LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
+                      const InputOptions& options) {
+  LoadedInput in;
+  in.path = path;
+  if (hasExtension(path, ".npz")) {
+    types_slam2d::CourseworkNpzOptions o;
+    o.model = options.npz_model;
+    auto p = types_slam2d::loadCourseworkNpz(path, o);
+    in.format = "npz";
+    in.graph = std::move(p.graph);
+    in.ground_truth = std::move(p.ground_truth);
+    in.keep_initial_guess = true;
+    in.description = "CMU 16-833 homework file, " + std::string(toString(p.model)) +
+                     " observations: " + std::to_string(p.num_poses) + " poses, " +
+                     std::to_string(p.num_landmarks) + " landmarks, " +
+                     std::to_string(p.num_odometry) + " odometry, " +
+                     std::to_string(p.num_observations) + " observations";
+    in.notes.push_back("observation model " + std::string(toString(p.model)) + ": " +
+                       p.model_reason);
+    in.notes.push_back(p.model == types_slam2d::PointObservationModel::kLinear
+                           ? "initial guess: all zero (the system is linear)"
+                           : "initial guess: odometry summed from (0, 0), each landmark from "
+                             "its first observation (the homework's init_states)");
+    in.notes.insert(in.notes.end(), p.notes.begin(), p.notes.end());
+    return in;
+  }
+  auto loaded = io::loadG2o(path, types);
+  if (!loaded.ok()) {
+    std::string all;
+    for (const auto& d : loaded.diagnostics) all += (all.empty() ? "" : "\n") + d.str();
+    throw InputError(all);
+  }
+  in.format = "g2o";
+  in.graph = std::move(loaded.graph);
+  in.description = ".g2o graph";
+  return in;
+}
+
+}  // namespace graphslam::apps

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// The tool's input loader: every subcommand that reads a graph goes through loadInput(), so
+// each reads the same formats.
+//
+//   Registries reg;  loadRegistries(reg, plugins);
+//   LoadedInput in = loadInput(path, reg.types);      // throws InputError on bad input
+//   Graph& g = in.graph;                               // ready to optimise
+//   if (!in.ground_truth.empty()) ...                  // true positions (.npz only)
+//
+// Formats, by extension (case-insensitive):
+//   .npz  a CMU 16-833 HW3 homework archive (types_slam2d/coursework_npz.h): point robot,
+//         poses 0..P-1 then landmarks P..P+L-1, the homework's initial guess, ground truth;
+//   else  a .g2o file read through the type registry (no ground truth).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/type_registry.h"
+#include "graphslam/types_slam2d/coursework_npz.h"
+#include "graphslam/types_slam2d/point_ground_truth.h"
+
+namespace graphslam::apps {
+
+struct InputOptions {
+  /// Observation model of a .npz homework file (kAuto: decided from the file).
+  types_slam2d::PointObservationModel npz_model = types_slam2d::PointObservationModel::kAuto;
+};
+
+/// A graph read from a file, with what came with it.
+struct LoadedInput {
+  Graph graph;
+  std::string path;
+  std::string format;              ///< "g2o" or "npz"
+  std::string description;         ///< one line on what was read (for the user)
+  std::vector<std::string> notes;  ///< further lines worth printing (model choice, ...)
+  types_slam2d::PointGroundTruth ground_truth;  ///< empty unless the file has one
+  /// The file's estimates are a deliberate initial guess that the tool's default
+  /// initialisation must keep (.npz: the homework's); false for .g2o files, which get
+  /// the global SE(2) initialisation by default.
+  bool keep_initial_guess = false;
+};
+
+/// Loads `path` as described above. Throws graphslam::InputError whose message holds
+/// every diagnostic (`FILE:LINE: ...` for .g2o, `FILE: array 'NAME': ...` for .npz).
+[[nodiscard]] LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
+                                    const InputOptions& options = {});
+
+/// Parses auto|linear|bearing-range; throws UsageError otherwise.
+[[nodiscard]] types_slam2d::PointObservationModel parseNpzModel(const std::string& text);
+
+}  // namespace graphslam::apps
