@@ -12,10 +12,10 @@
 #include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/file_util.h"
-#include "graphslam/core/io_g2o.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
+#include "input.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -23,15 +23,20 @@ namespace graphslam::apps {
 namespace {
 
 constexpr const char* kSolversUsage =
-    "usage: graphslam solvers INPUT [--solvers LIST|all] [--repeats N] [--at optimum|input]\n"
+    "usage: graphslam solvers INPUT [--solvers LIST|all] [--repeats N] [--at auto|optimum|input]\n"
     "                         [--plot DIR] [--csv FILE] [--slow-max N] [--plugin LIB]...\n"
-    "Solves the linear system of INPUT (.g2o) with every linear solver and ordering (or\n"
+    "Solves the linear system of INPUT (.g2o or .npz) with every linear solver and ordering (or\n"
     "those in LIST: names, or name:ordering, comma separated) and prints, per solver and\n"
     "ordering, the median analyse / factorise / solve times of N runs, the factor's\n"
     "non-zeros, the relative residual |H dx + g| / |g| and the largest difference to a\n"
     "reference solution (SuiteSparseQR on J, else Eigen LDL^T). The system is taken at the\n"
     "optimum (after optimising with --algorithm, at most -i iterations) or at the input's\n"
-    "estimates. --plot DIR writes PNG pictures of the sparsity of H, J and every factor.";
+    "estimates; auto: the input's for .npz homework files (their initial guess, so dx is the\n"
+    "whole solution of a linear problem), the optimum for .g2o. With ground truth (.npz) the\n"
+    "reference solution's position errors are printed. --plot DIR writes PNG pictures of the\n"
+    "sparsity of H, J and every factor, and of the solution against the ground truth.\n"
+    "The homework's nonlinear study (the system of the 10th Gauss-Newton step):\n"
+    "  graphslam solvers 2d_nonlinear.npz --at optimum --algorithm gn -i 9";
 
 using Clock = std::chrono::steady_clock;
 
@@ -235,8 +240,8 @@ int cmdSolvers(const std::vector<std::string>& args) {
       "solvers", po::value(&list)->default_value("all"),
       "comma-separated solver names (all their orderings) or name:ordering, or all")(
       "repeats", po::value(&repeats)->default_value(3), "runs per solver (medians reported)")(
-      "at", po::value(&at)->default_value("optimum"),
-      "linearise at the optimum (optimise first) or at the input's estimates")(
+      "at", po::value(&at)->default_value("auto"),
+      "linearise at the optimum (optimise first), at the input's estimates, or auto")(
       "algorithm", po::value(&algorithm)->default_value("auto"),
       "optimiser for --at optimum: auto, gn or lm")("iterations,i",
                                                     po::value(&iterations)->default_value(100),
@@ -255,7 +260,9 @@ int cmdSolvers(const std::vector<std::string>& args) {
   }
   if (input.empty()) throw UsageError("solvers needs an INPUT file");
   if (repeats < 1) throw UsageError("--repeats must be at least 1");
-  if (at != "optimum" && at != "input") throw UsageError("--at must be optimum or input");
+  if (at != "optimum" && at != "input" && at != "auto") {
+    throw UsageError("--at must be auto, optimum or input");
+  }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
   Registries reg;
   loadRegistries(reg, plugins);
@@ -289,13 +296,12 @@ int cmdSolvers(const std::vector<std::string>& args) {
   }
   if (specs.empty()) throw UsageError("--solvers lists no solver");
 
-  auto loaded = io::loadG2o(input, reg.types);
-  if (!loaded.ok()) {
-    for (const auto& d : loaded.diagnostics) std::cerr << d.str() << "\n";
-    return kExitBadInput;
-  }
-  Graph& graph = loaded.graph;
-  std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
+  LoadedInput in = loadInput(input, reg.types);
+  Graph& graph = in.graph;
+  std::cout << in.description << "\n";
+  for (const auto& note : in.notes) std::cout << note << "\n";
+  if (at == "auto") at = in.keep_initial_guess ? "input" : "optimum";
+  std::cout << "linearised at the " << (at == "input" ? "input's estimates" : "optimum") << "\n";
   if (at == "optimum") {
     Optimizer::Options options;
     options.max_iterations = iterations;
@@ -395,6 +401,26 @@ int cmdSolvers(const std::vector<std::string>& args) {
                 reference_name.empty() ? "none" : reference_name.c_str());
   }
 
+  // The reference solution against the ground truth.
+  const auto initial_positions = positions(graph);
+  const auto before = types_slam2d::positionErrors(graph, in.ground_truth);
+  if (!reference.empty() && !in.ground_truth.empty()) {
+    for (Vertex* v : [&] {
+           std::vector<Vertex*> vs;
+           for (const auto& [id, vp] : graph.vertices()) {
+             if (vp->hessianIndex() >= 0) vs.push_back(vp.get());
+           }
+           return vs;
+         }()) {
+      v->oplus(reference.data() + v->hessianIndex());
+    }
+    const auto after = types_slam2d::positionErrors(graph, in.ground_truth);
+    std::printf("position error vs ground truth (m) of the estimate, before -> after the reference "
+                "step:\n");
+    printErrors("poses", before.poses, after.poses);
+    printErrors("landmarks", before.landmarks, after.landmarks);
+  }
+
   if (!csv.empty()) {
     writeFileAtomically(csv, [&](std::ostream& out) {
       out.precision(10);
@@ -445,6 +471,11 @@ int cmdSolvers(const std::vector<std::string>& args) {
     }
     runPlotScript("plot_spy.py", plot_args);
     std::cout << "wrote " << plot_args.size() - 1 << " pictures into " << plot_dir << "\n";
+    if (!reference.empty() && !in.ground_truth.empty()) {
+      plotPoints((fs::path(plot_dir) / (stem + "_estimate.png")).string(),
+                 stem + ": before and after the reference step (" + reference_name + ")", graph,
+                 initial_positions, in.ground_truth);
+    }
   }
   return kExitOk;
 }

@@ -49,59 +49,6 @@ constexpr const char* kOptimizeUsage =
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
     "remove the gauge freedom gets zeros; the others are relative to it.";
 
-/// Positions of the vertices that have one (see types_slam2d::vertexPosition), by id.
-std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph) {
-  std::map<VertexId, Eigen::Vector2d> out;
-  for (const auto& [id, v] : graph.vertices()) {
-    Eigen::Vector2d p;
-    if (types_slam2d::vertexPosition(*v, p)) out.emplace(id, p);
-  }
-  return out;
-}
-
-void printErrors(const char* what, const types_slam2d::PositionErrorStats& before,
-                 const types_slam2d::PositionErrorStats& after) {
-  if (!after.count) return;
-  std::printf(
-      "  %-10s %5zu   rmse %.6f  mean %.6f  max %.6f   ->   rmse %.6f  mean %.6f  max %.6f\n", what,
-      after.count, before.rmse, before.mean, before.max, after.rmse, after.mean, after.max);
-}
-
-/// Writes the before/after/ground-truth positions as CSV and draws them (plot_points.py).
-/// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
-void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
-                const std::map<VertexId, Eigen::Vector2d>& initial,
-                const types_slam2d::PointGroundTruth& truth) {
-  std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
-  if (truth.empty()) {
-    for (const auto& [id, v] : graph.vertices()) {
-      if (dynamic_cast<const types_slam2d::VertexSE2*>(v.get())) pose_ids.insert(id);
-    }
-  }
-  const std::string data = png + ".points.csv";
-  writeFileAtomically(data, [&](std::ostream& out) {
-    out.precision(17);
-    out << "set,role,id,x,y\n";
-    auto write = [&](const char* set, const std::map<VertexId, Eigen::Vector2d>& points) {
-      for (const auto& [id, p] : points) {
-        out << set << ',' << (pose_ids.count(id) ? "pose" : "landmark") << ',' << id << ',' << p.x()
-            << ',' << p.y() << '\n';
-      }
-    };
-    write("initial", initial);
-    write("final", positions(graph));
-    std::map<VertexId, Eigen::Vector2d> gt;
-    for (std::size_t k = 0; k < truth.pose_ids.size(); ++k) gt[truth.pose_ids[k]] = truth.poses[k];
-    for (std::size_t k = 0; k < truth.landmark_ids.size(); ++k) {
-      gt[truth.landmark_ids[k]] = truth.landmarks[k];
-    }
-    write("truth", gt);
-  });
-  runPlotScript("plot_points.py", {data, png, title});
-  std::remove(data.c_str());
-  std::printf("wrote %s\n", png.c_str());
-}
-
 std::string csvLine(const IterationStats& s) {
   std::ostringstream o;
   o.precision(17);

@@ -3,8 +3,13 @@
 // tools/plot/ with a Python interpreter that can import matplotlib.
 #pragma once
 
+#include <Eigen/Core>
+#include <map>
 #include <string>
 #include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/types_slam2d/point_ground_truth.h"
 
 namespace graphslam::apps {
 
@@ -15,5 +20,18 @@ namespace graphslam::apps {
 /// Runs tools/plot/<script> with `args`. Throws graphslam::Error with install advice when
 /// no interpreter has matplotlib, or naming the script when it fails.
 void runPlotScript(const std::string& script, const std::vector<std::string>& args);
+
+/// Positions of the vertices that have one (see types_slam2d::vertexPosition), by id.
+[[nodiscard]] std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph);
+
+/// Prints one line "what count rmse mean max -> rmse mean max".
+void printErrors(const char* what, const types_slam2d::PositionErrorStats& before,
+                 const types_slam2d::PositionErrorStats& after);
+
+/// Writes the initial / final / ground-truth positions as CSV and draws them
+/// (plot_points.py). Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
+void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
+                const std::map<VertexId, Eigen::Vector2d>& initial,
+                const types_slam2d::PointGroundTruth& truth);
 
 }  // namespace graphslam::apps
