@@ -233,7 +233,7 @@ std::string fmtTime(double s) {
 
 int cmdSolvers(const std::vector<std::string>& args) {
   std::string input, list, plot_dir, csv, at, algorithm;
-  int repeats = 3, slow_max = 3000, iterations = 100;
+  int repeats = 3, slow_max = 3000, iterations = 100, qr_max_nnz = 100000;
   std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
@@ -250,6 +250,8 @@ int cmdSolvers(const std::vector<std::string>& args) {
       "csv", po::value(&csv), "write the table as CSV")(
       "slow-max", po::value(&slow_max)->default_value(3000),
       "skip dense-ldlt, dense-pinv and eigen-qr above this many unknowns (0: never skip)")(
+      "eigen-qr-max-nnz", po::value(&qr_max_nnz)->default_value(100000),
+      "skip eigen-qr when J has more non-zeros (0: never skip)")(
       "plugin", po::value(&plugins)->composing(), "load solvers/types from this library");
   po::positional_options_description pos;
   pos.add("input", 1);
@@ -354,15 +356,22 @@ int cmdSolvers(const std::vector<std::string>& args) {
   std::vector<Row> rows;
   for (const auto& [name, ordering] : specs) {
     const bool slow = name == "dense-ldlt" || name == "dense-pinv" || name == "eigen-qr";
+    std::string skip;
     if (slow && slow_max > 0 && sys.n > slow_max) {
+      skip = std::to_string(sys.n) + " unknowns > --slow-max " + std::to_string(slow_max) +
+             (name == "eigen-qr" ? " (Eigen's SparseQR fills R far beyond SPQR's)"
+                                 : " (dense, O(n^3) time and n^2 memory)");
+    } else if (name == "eigen-qr" && qr_max_nnz > 0 &&
+               sys.jacobianNonZeros() > static_cast<std::size_t>(qr_max_nnz)) {
+      skip = "J has " + std::to_string(sys.jacobianNonZeros()) + " non-zeros > --eigen-qr-max-nnz " +
+             std::to_string(qr_max_nnz) + " (Eigen's SparseQR takes minutes there)";
+    }
+    if (!skip.empty()) {
       Row row;
       row.solver = name;
       row.ordering = toString(ordering);
       row.form = reg.solvers.find(name)->form == SystemForm::kJacobian ? "J" : "H";
-      row.status = "skipped: " + std::to_string(sys.n) + " unknowns > --slow-max " +
-                   std::to_string(slow_max) +
-                   (name == "eigen-qr" ? " (Eigen's SparseQR fills R far beyond SPQR's)"
-                                       : " (dense O(n^3))");
+      row.status = "skipped: " + skip;
       rows.push_back(std::move(row));
       continue;
     }

@@ -351,7 +351,7 @@ class PcgSolver final : public LinearSolver {
       Eigen::Map<Eigen::VectorXd>(x, n).setZero();
       return LinearSolverResult::success();
     }
-    const int max_iterations = std::max(100, 10 * n);
+    const int max_iterations = std::max(100, std::min(10 * n, 5000));
     while (r.norm() > tolerance_ * b_norm) {
       if (++iterations_ > max_iterations) {
         return LinearSolverResult::failure(
@@ -445,7 +445,7 @@ void registerEigenSolvers(SolverRegistry& registry) {
       SystemForm::kNormalEquations, {Ordering::kNatural},
       [](const LinearSolverOptions&) { return std::make_unique<DensePinvSolver>(); });
   registry.registerSolver(
-      "pcg", "conjugate gradients on H, block-Jacobi preconditioner, relative residual 1e-14",
+      "pcg", "conjugate gradients on H, block-Jacobi preconditioner, relative residual 1e-14 (at most 5000 iterations)",
       SystemForm::kNormalEquations, {Ordering::kNatural},
       [](const LinearSolverOptions&) { return std::make_unique<PcgSolver>(); });
 }
