@@ -202,6 +202,10 @@ bool parseListing(const std::vector<std::string>& args, const char* usage, Regis
   return true;
 }
 
+std::string parameterNote(int n) {
+  return n > 0 ? "  parameters " + std::to_string(n) : std::string();
+}
+
 int cmdListTypes(const std::vector<std::string>& args) {
   Registries reg;
   if (!parseListing(
@@ -213,13 +217,15 @@ int cmdListTypes(const std::vector<std::string>& args) {
   for (const auto* e : reg.types.entries()) {
     if (e->kind == TypeRegistry::Kind::kVertex) {
       auto v = e->make_vertex();
-      std::printf("%-24s vertex  dim %d  values %d  (%s)\n", e->tag.c_str(), v->dimension(),
-                  v->estimateDataDimension(), e->origin.c_str());
+      std::printf("%-28s vertex  dim %d  values %d%s  (%s)\n", e->tag.c_str(), v->dimension(),
+                  v->estimateDataDimension(), parameterNote(v->parameterDataDimension()).c_str(),
+                  e->origin.c_str());
     } else {
       auto ed = e->make_edge();
-      std::printf("%-24s edge    dim %d  vertices %s  measurement %d  (%s)\n", e->tag.c_str(),
+      std::printf("%-28s edge    dim %d  vertices %s  measurement %d%s  (%s)\n", e->tag.c_str(),
                   ed->dimension(), ed->arity() > 0 ? std::to_string(ed->arity()).c_str() : "any",
-                  ed->measurementDataDimension(), e->origin.c_str());
+                  ed->measurementDataDimension(),
+                  parameterNote(ed->parameterDataDimension()).c_str(), e->origin.c_str());
     }
   }
   return kExitOk;

@@ -131,7 +131,8 @@ class Reader {
     const std::size_t found = tokens.size() - 1;
     if (entry->kind == TypeRegistry::Kind::kVertex) {
       auto v = entry->make_vertex();
-      const std::size_t expected = 1 + static_cast<std::size_t>(v->estimateDataDimension());
+      const std::size_t est = static_cast<std::size_t>(v->estimateDataDimension());
+      const std::size_t expected = 1 + est + static_cast<std::size_t>(v->parameterDataDimension());
       if (found != expected) throw LineError{countMessage(tag, expected, found)};
       const VertexId id = parseId(tokens[1], 1, tag);
       values_.resize(expected - 1);
@@ -143,13 +144,15 @@ class Reader {
       }
       v->setId(id);
       v->setEstimateData(values_.data());
+      setParameters(tag, [&] { v->setParameterData(values_.data() + est); });
       result_.graph.addVertex(std::move(v));
       vertex_lines_.emplace(id, line_no);
       return;
     }
     auto e = entry->make_edge();
     const int d = e->dimension();
-    const std::size_t meas = static_cast<std::size_t>(e->measurementDataDimension());
+    const std::size_t meas = static_cast<std::size_t>(e->measurementDataDimension()) +
+                             static_cast<std::size_t>(e->parameterDataDimension());
     const std::size_t info = static_cast<std::size_t>(d * (d + 1) / 2);
     std::size_t num_ids = 0;
     if (e->arity() > 0) {
@@ -160,7 +163,7 @@ class Reader {
       if (found < 1 + meas + info) {
         throw LineError{tag + " expects at least " + std::to_string(1 + meas + info) +
                         " numbers after the tag (vertex ids, " + std::to_string(meas) +
-                        " measurement values, " + std::to_string(info) +
+                        " measurement and parameter values, " + std::to_string(info) +
                         " information values), found " + std::to_string(found)};
       }
       num_ids = found - meas - info;
@@ -192,6 +195,8 @@ class Reader {
     }
     e->setVertexIds(std::move(ids));
     e->setMeasurementData(values_.data());
+    setParameters(tag,
+                  [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
     e->setInformationData(omega.data());
     try {
       result_.graph.addEdge(std::move(e));
@@ -199,6 +204,16 @@ class Reader {
       std::string msg = err.what();
       if (msg.rfind("addEdge: ", 0) == 0) msg = msg.substr(9);
       throw LineError{tag + ": " + msg};
+    }
+  }
+
+  /// Runs `set` (a setParameterData call), turning a refused value into a line error.
+  template <typename F>
+  static void setParameters(const std::string& tag, F&& set) {
+    try {
+      set();
+    } catch (const Error& err) {
+      throw LineError{tag + ": " + err.what()};
     }
   }
 
@@ -215,6 +230,15 @@ class Reader {
   std::unordered_map<VertexId, int> vertex_lines_;
   std::vector<std::pair<int, VertexId>> fixes_;
 };
+
+/// Appends the parameter values of a vertex or edge to its line.
+template <typename T>
+void appendParameters(std::string& line, const T& item, std::vector<double>& data) {
+  data.resize(static_cast<std::size_t>(item.parameterDataDimension()));
+  if (data.empty()) return;
+  item.getParameterData(data.data());
+  for (double x : data) line += ' ' + formatDouble(x);
+}
 
 }  // namespace
 
@@ -245,6 +269,7 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
     v->getEstimateData(data.data());
     line = *tag + ' ' + std::to_string(id);
     for (double x : data) line += ' ' + formatDouble(x);
+    appendParameters(line, *v, data);
     out << line << '\n';
   }
   for (const auto& [id, v] : graph.vertices()) {
@@ -260,6 +285,7 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
     data.resize(static_cast<std::size_t>(e->measurementDataDimension()));
     e->getMeasurementData(data.data());
     for (double x : data) line += ' ' + formatDouble(x);
+    appendParameters(line, *e, data);
     const int d = e->dimension();
     const double* info = e->informationData();
     for (int r = 0; r < d; ++r) {

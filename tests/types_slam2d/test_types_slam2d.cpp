@@ -5,7 +5,7 @@
 #include <random>
 #include <sstream>
 
-#include "../common/test_util.h"
+#include "../common/edge_type_checks.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
@@ -101,38 +101,7 @@ using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2>;
 TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
-  std::mt19937 rng(1234);
-  for (int trial = 0; trial < 500; ++trial) {
-    Graph g;
-    TypeParam* e = EdgeFactory<TypeParam>::make(g, rng);
-    const std::string problem = graphslam::test::checkJacobians(*e, g, 1e-6);
-    ASSERT_TRUE(problem.empty()) << "trial " << trial << ": " << problem;
-  }
-}
-
-TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesBuiltInNumericDefault) {
-  // The FixedEdge numeric default (central differences on copies) is what a type
-  // without linearizeOplus() gets; it must agree with the analytic Jacobian too.
-  std::mt19937 rng(99);
-  for (int trial = 0; trial < 100; ++trial) {
-    Graph g;
-    TypeParam* e = EdgeFactory<TypeParam>::make(g, rng);
-    e->computeError();
-    e->linearizeOplus();
-    std::vector<Eigen::MatrixXd> analytic;
-    for (std::size_t s = 0; s < e->numVertices(); ++s) {
-      analytic.emplace_back(Eigen::Map<const Eigen::MatrixXd>(e->jacobianData(s), e->dimension(),
-                                                              e->vertex(s)->dimension()));
-    }
-    e->numericJacobians();
-    for (std::size_t s = 0; s < e->numVertices(); ++s) {
-      const Eigen::Map<const Eigen::MatrixXd> numeric(e->jacobianData(s), e->dimension(),
-                                                      e->vertex(s)->dimension());
-      EXPECT_LT((numeric - analytic[s]).cwiseAbs().maxCoeff(),
-                1e-6 * std::max(1.0, analytic[s].cwiseAbs().maxCoeff()))
-          << "slot " << s;
-    }
-  }
+  graphslam::test::expectAnalyticJacobians<TypeParam>(EdgeFactory<TypeParam>::make, 1234, 500);
 }
 
 TYPED_TEST(TypesSlam2d_Edge, WriteReadRoundTripIsExact) {
@@ -140,28 +109,8 @@ TYPED_TEST(TypesSlam2d_Edge, WriteReadRoundTripIsExact) {
   registerTypes(types);
   std::mt19937 rng(7);
   Graph g;
-  TypeParam* e = EdgeFactory<TypeParam>::make(g, rng);
-  ASSERT_NE(types.tagOf(*e), nullptr) << "type not registered";
-  std::stringstream text;
-  io::writeG2o(text, g, types);
-  auto loaded = io::readG2o(text, "roundtrip", types);
-  ASSERT_TRUE(loaded.ok()) << loaded.diagnostics.at(0).str();
-  ASSERT_EQ(loaded.graph.numEdges(), 1u);
-  ASSERT_EQ(loaded.graph.numVertices(), g.numVertices());
-  const Edge& back = *loaded.graph.edges()[0];
-  std::vector<double> m1(static_cast<std::size_t>(e->measurementDataDimension())), m2(m1.size());
-  e->getMeasurementData(m1.data());
-  back.getMeasurementData(m2.data());
-  EXPECT_EQ(m1, m2);
-  const int d = e->dimension();
-  for (int i = 0; i < d * d; ++i) EXPECT_EQ(e->informationData()[i], back.informationData()[i]);
-  for (const auto& [id, v] : g.vertices()) {
-    std::vector<double> a(static_cast<std::size_t>(v->estimateDataDimension())), b(a.size());
-    v->getEstimateData(a.data());
-    loaded.graph.vertex(id)->getEstimateData(b.data());
-    EXPECT_EQ(a, b) << "vertex " << id;
-  }
-  EXPECT_NEAR(loaded.graph.chi2(), g.chi2(), 1e-12 * std::max(1.0, g.chi2()));
+  EdgeFactory<TypeParam>::make(g, rng);
+  graphslam::test::expectExactRoundTrip(g, types);
 }
 
 TEST(TypesSlam2d_SE2, GroupAxioms) {

@@ -94,11 +94,25 @@ class Edge {
   [[nodiscard]] virtual int measurementDataDimension() const = 0;
   virtual void getMeasurementData(double* data) const = 0;
   virtual void setMeasurementData(const double* data) = 0;
+  /// Constants of the edge's model that are neither measurement nor information (a time
+  /// step, a sensor offset): written in the `.g2o` line between the measurement and the
+  /// information. Default: none. setParameterData may throw graphslam::Error for a value
+  /// the type cannot take (the loader reports it with the file and line).
+  [[nodiscard]] virtual int parameterDataDimension() const { return 0; }
+  virtual void getParameterData(double* /*data*/) const {}
+  virtual void setParameterData(const double* /*data*/) {}
   /// Information matrix, dimension() x dimension(), column-major.
   [[nodiscard]] virtual const double* informationData() const = 0;
   virtual void setInformationData(const double* data) = 0;
 
  protected:
+  /// Writable access to the vertex in `slot` (nullptr before insertion into a graph), for
+  /// methods that initialise a vertex from the measurement (odometry chaining, landmark
+  /// initialisation). Never use it in computeError() or linearizeOplus().
+  [[nodiscard]] Vertex* mutableVertex(std::size_t slot) {
+    return slot < vertices_.size() ? vertices_[slot] : nullptr;
+  }
+
   /// Central-difference Jacobian of the error w.r.t. the vertex in `slot`, perturbing
   /// that vertex in place (push, oplus, computeError, pop); for types whose error is only
   /// available through computeError(). Writes dimension() x vertex dimension values,

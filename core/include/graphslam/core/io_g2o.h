@@ -34,10 +34,12 @@ struct LoadResult {
 };
 
 /// Reads a `.g2o` file through `types`: one element per line, `TAG values...`, `FIX id...`,
-/// `#` comments. Checks: unknown tag, wrong number of tokens, non-numbers, NaN/Inf,
-/// duplicate vertex id, edge to an undefined vertex, vertex of the wrong type,
-/// information matrix not positive definite. Never throws for bad data; a file that
-/// cannot be opened is reported as a diagnostic with line 0.
+/// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
+/// `TAG ids... measurement... parameters... information-upper-triangle...` (parameters:
+/// see Vertex/Edge::parameterDataDimension; most types have none). Checks: unknown tag, wrong
+/// number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex, vertex
+/// of the wrong type, information matrix not positive definite, a parameter the type refuses. Never
+/// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
                                  const LoadOptions& options = {});
 /// Same, from a stream; `name` is used in diagnostics.

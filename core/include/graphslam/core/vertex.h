@@ -38,6 +38,15 @@ class Vertex {
   virtual void getEstimateData(double* data) const = 0;
   virtual void setEstimateData(const double* data) = 0;
 
+  /// Values of the vertex's `.g2o` line after the estimate that are not estimated: constants
+  /// of the problem such as a timestamp. The optimizer never reads or changes them (they
+  /// are not part of push/pop or the flat estimate). Default: none.
+  [[nodiscard]] virtual int parameterDataDimension() const { return 0; }
+  virtual void getParameterData(double* /*data*/) const {}
+  /// May throw graphslam::Error for a value the type cannot take (the loader reports it
+  /// with the file and line).
+  virtual void setParameterData(const double* /*data*/) {}
+
   /// x <- x (+) delta, with `delta` of length `dimension()`.
   virtual void oplus(const double* delta) = 0;
 

@@ -5,8 +5,8 @@
 
 namespace graphslam::types_drivebot {
 
-/// Registers the DriveBot types. None exist yet (they come with the DriveBot issue), so
-/// this registers nothing.
+/// Registers the DriveBot types: VERTEX_VEHICLE, VERTEX_LANDMARK, EDGE_VEHICLE_KINEMATICS,
+/// EDGE_GPS, EDGE_COMPASS, EDGE_LANDMARK_RANGE_BEARING and EDGE_VEHICLE_PRIOR.
 void registerTypes(TypeRegistry& registry);
 
 }  // namespace graphslam::types_drivebot
