@@ -15,6 +15,7 @@
 #include "graphslam/core/file_util.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/logging.h"
+#include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
 #include "graphslam/types_slam2d/initialization.h"
@@ -35,8 +36,13 @@ constexpr const char* kOptimizeUsage =
     "NAME]\n"
     "                          [--init global|none] [--plugin LIB]... [--stats FILE.csv] "
     "[--quiet]\n"
+    "                          [--marginals FILE [--marginals-tag TAG]]\n"
     "Optimises a .g2o graph and prints one line per iteration and a summary.\n"
-    "Without IN, optimises the built-in default graph (a simulated Manhattan world).";
+    "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
+    "--marginals writes the marginal covariance of every non-fixed vertex at the optimum, one\n"
+    "line per vertex: its id, then the upper triangle of its covariance row by row (x y theta:\n"
+    "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
+    "remove the gauge freedom gets zeros; the others are relative to it.";
 
 std::string csvLine(const IterationStats& s) {
   std::ostringstream o;
@@ -47,11 +53,44 @@ std::string csvLine(const IterationStats& s) {
   return o.str();
 }
 
+/// Marginal covariances of the non-fixed vertices (of `tag`, when given) to `path`.
+int writeMarginals(Graph& graph, const TypeRegistry& types, const std::string& path,
+                   const std::string& tag) {
+  std::vector<VertexId> ids;
+  for (const auto& [id, v] : graph.vertices()) {
+    const std::string* t = types.tagOf(*v);
+    if (!v->fixed() && (tag.empty() || (t && *t == tag))) ids.push_back(id);
+  }
+  MarginalCovariance marginals;
+  const MarginalSummary summary = marginals.compute(graph, ids);
+  std::cout << summary.report() << "\n";
+  if (!summary.ok()) {
+    std::cerr << "marginal covariances failed: " << summary.message << "\nnot writing " << path
+              << "\n";
+    return summary.status == MarginalStatus::kUnconstrained ? kExitBadInput : kExitFailed;
+  }
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "# graphslam marginal covariances: vertex id, then the upper triangle of its "
+           "covariance row by row\n";
+    std::string line;
+    for (VertexId id : ids) {
+      const Eigen::MatrixXd& c = marginals.block(id);
+      line = std::to_string(id);
+      for (int r = 0; r < c.rows(); ++r) {
+        for (int k = r; k < c.cols(); ++k) line += ' ' + formatDouble(c(r, k));
+      }
+      out << line << '\n';
+    }
+  });
+  std::cout << "wrote " << path << " (" << ids.size() << " vertices)\n";
+  return kExitOk;
+}
+
 int cmdOptimize(const std::vector<std::string>& args) {
   std::string input, output, algorithm, solver, stats_file;
   int iterations = 100;
   std::vector<std::string> plugins;
-  std::string damping, init;
+  std::string damping, init, marginals_file, marginals_tag;
   Optimizer::Options options;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input), "input .g2o file")(
@@ -79,7 +118,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
       po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
       "damping", po::value(&damping)->default_value("identity"),
-      "LM damping: identity (lambda I) or diagonal (lambda diag(H))");
+      "LM damping: identity (lambda I) or diagonal (lambda diag(H))")(
+      "marginals", po::value(&marginals_file),
+      "write marginal covariances (upper triangle per vertex) here, atomically")(
+      "marginals-tag", po::value(&marginals_tag),
+      "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
@@ -112,6 +155,14 @@ int cmdOptimize(const std::vector<std::string>& args) {
   if (!reg.solvers.contains(solver)) {
     throw UsageError("unknown solver '" + solver +
                      "' (graphslam list-solvers shows the known ones)");
+  }
+  if (!marginals_tag.empty()) {
+    const auto* entry = reg.types.find(marginals_tag);
+    if (marginals_file.empty()) throw UsageError("--marginals-tag needs --marginals FILE");
+    if (!entry || entry->kind != TypeRegistry::Kind::kVertex) {
+      throw UsageError("--marginals-tag: '" + marginals_tag +
+                       "' is not a vertex tag (graphslam list-types shows them)");
+    }
   }
 
   Graph graph;
@@ -181,6 +232,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
     io::saveG2o(output, graph, reg.types);
     std::cout << "wrote " << output << "\n";
   }
+  if (!marginals_file.empty())
+    return writeMarginals(graph, reg.types, marginals_file, marginals_tag);
   return kExitOk;
 }
 

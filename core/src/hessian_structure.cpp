@@ -2,6 +2,7 @@
 #include "hessian_structure.h"
 
 #include <algorithm>
+#include <numeric>
 #include <unordered_map>
 
 namespace graphslam::detail {
@@ -158,6 +159,77 @@ VertexId HessianStructure::vertexOfColumn(int col) const {
   const auto it = std::upper_bound(block_starts_.begin(), block_starts_.end(), col);
   const auto block = (it - block_starts_.begin()) - 1;
   return active_vertices_[static_cast<std::size_t>(block)]->id();
+}
+
+namespace {
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+}  // namespace
+
+std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_t max_ids) const {
+  // Components of free vertices touched by a unary edge or an edge to a fixed vertex are
+  // determined; the others float.
+  const auto& active = active_vertices_;
+  std::unordered_map<const Vertex*, int> index;
+  for (std::size_t i = 0; i < active.size(); ++i) index.emplace(active[i], static_cast<int>(i));
+  UnionFind uf(active.size());
+  std::vector<char> anchored(active.size(), 0);
+  std::vector<int> slots;
+  for (Edge* e : active_edges_) {
+    slots.clear();
+    for (std::size_t s = 0; s < e->numVertices(); ++s) {
+      // Not hessianIndex(): another structure on the same graph may have set it since.
+      if (const auto it = index.find(e->vertex(s)); it != index.end()) slots.push_back(it->second);
+    }
+    for (std::size_t k = 1; k < slots.size(); ++k) uf.unite(slots[0], slots[k]);
+    if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;
+  }
+  std::vector<char> root_anchored(active.size(), 0);
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    if (anchored[i]) root_anchored[uf.find(static_cast<int>(i))] = 1;
+  }
+  std::vector<std::vector<VertexId>> groups;
+  std::unordered_map<int, std::size_t> group_of_root;
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    const int root = uf.find(static_cast<int>(i));
+    if (root_anchored[root]) continue;
+    auto [it, inserted] = group_of_root.emplace(root, groups.size());
+    if (inserted) groups.emplace_back();
+    auto& group = groups[it->second];
+    if (group.size() < max_ids) group.push_back(active[i]->id());
+  }
+  return groups;
+}
+
+GaugeFix::GaugeFix(Graph& graph, bool enabled) {
+  if (!enabled || graph.numVertices() == 0) return;
+  const bool any_fixed = std::any_of(graph.vertices().begin(), graph.vertices().end(),
+                                     [](const auto& kv) { return kv.second->fixed(); });
+  const bool any_unary = std::any_of(graph.edges().begin(), graph.edges().end(),
+                                     [](const auto& e) { return e->numVertices() == 1; });
+  if (any_fixed || any_unary) return;
+  for (const auto& [id, v] : graph.vertices()) {
+    if (v->edges().empty()) continue;
+    v->setFixed(true);
+    vertices_.push_back(v.get());
+    ids_.push_back(id);
+    break;
+  }
+}
+
+GaugeFix::~GaugeFix() {
+  for (Vertex* v : vertices_) v->setFixed(false);
 }
 
 }  // namespace graphslam::detail

@@ -36,6 +36,11 @@ class HessianStructure {
   /// Id of the vertex owning column `col`, -1 if out of range.
   [[nodiscard]] VertexId vertexOfColumn(int col) const;
 
+  /// Connected groups of active vertices with no fixed vertex and no unary edge among
+  /// their edges: their position is undetermined. Each group holds up to `max_ids` ids,
+  /// smallest first.
+  [[nodiscard]] std::vector<std::vector<VertexId>> unanchoredGroups(std::size_t max_ids = 20) const;
+
  private:
   std::uint64_t version_ = ~std::uint64_t{0};
   std::vector<char> fixed_snapshot_;
@@ -50,6 +55,23 @@ class HessianStructure {
   std::vector<std::size_t> edge_b_start_;
   std::vector<HessianBlockRef> refs_;
   std::vector<int> b_offsets_;
+};
+
+/// Removes the gauge freedom for the lifetime of the object: if `enabled`, no vertex is
+/// fixed and no unary edge exists, fixes the lowest-id vertex that has edges; the
+/// destructor releases it.
+class GaugeFix {
+ public:
+  GaugeFix(Graph& graph, bool enabled);
+  ~GaugeFix();
+  GaugeFix(const GaugeFix&) = delete;
+  GaugeFix& operator=(const GaugeFix&) = delete;
+  /// Ids of the vertices fixed here (empty or one).
+  [[nodiscard]] const std::vector<VertexId>& fixedIds() const { return ids_; }
+
+ private:
+  std::vector<Vertex*> vertices_;
+  std::vector<VertexId> ids_;
 };
 
 }  // namespace graphslam::detail

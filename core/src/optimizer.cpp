@@ -2,14 +2,13 @@
 #include "graphslam/core/optimizer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 
 #include "graphslam/core/error.h"
 #include "graphslam/core/logging.h"
 #include "hessian_structure.h"
+#include "timing.h"
 
 namespace graphslam {
 
@@ -73,26 +72,8 @@ std::string Summary::report() const {
   return s.str();
 }
 
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
-}  // namespace
+using detail::Clock;
+using detail::seconds;
 
 struct Optimizer::Impl {
   detail::HessianStructure structure;
@@ -173,31 +154,12 @@ Summary Optimizer::optimize() {
   }
 
   // Gauge: with nothing fixed and no unary edge, the whole graph can move freely.
-  std::vector<Vertex*> gauge_fixed;
-  if (options_.fix_gauge && graph_.numVertices() > 0) {
-    const bool any_fixed = std::any_of(graph_.vertices().begin(), graph_.vertices().end(),
-                                       [](const auto& kv) { return kv.second->fixed(); });
-    const bool any_unary = std::any_of(graph_.edges().begin(), graph_.edges().end(),
-                                       [](const auto& e) { return e->numVertices() == 1; });
-    if (!any_fixed && !any_unary) {
-      for (const auto& [id, v] : graph_.vertices()) {
-        if (v->edges().empty()) continue;
-        v->setFixed(true);
-        gauge_fixed.push_back(v.get());
-        summary.gauge_fixed.push_back(id);
-        log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
-                                 std::to_string(id) +
-                                 " (the lowest id) to remove the gauge freedom");
-        break;
-      }
-    }
+  const detail::GaugeFix gauge(graph_, options_.fix_gauge);
+  summary.gauge_fixed = gauge.fixedIds();
+  for (VertexId id : summary.gauge_fixed) {
+    log(LogLevel::kInfo, "no vertex is fixed and no prior exists: fixing vertex " +
+                             std::to_string(id) + " (the lowest id) to remove the gauge freedom");
   }
-  struct RestoreGauge {
-    std::vector<Vertex*>& vs;
-    ~RestoreGauge() {
-      for (Vertex* v : vs) v->setFixed(false);
-    }
-  } restore_gauge{gauge_fixed};
 
   TimeSplit setup;
   auto t0 = Clock::now();
@@ -210,44 +172,13 @@ Summary Optimizer::optimize() {
   summary.system_dimension = im.structure.dimension();
   summary.hessian_nonzeros = im.structure.nonZeros();
 
-  // Anchors: components of free vertices touched by a unary edge or an edge to a fixed
-  // vertex are determined; the others float.
-  {
-    const auto& active = im.structure.activeVertices();
-    std::unordered_map<const Vertex*, int> index;
-    for (std::size_t i = 0; i < active.size(); ++i) index.emplace(active[i], static_cast<int>(i));
-    UnionFind uf(active.size());
-    std::vector<char> anchored(active.size(), 0);
-    std::vector<int> slots;
-    for (Edge* e : im.structure.activeEdges()) {
-      slots.clear();
-      for (std::size_t s = 0; s < e->numVertices(); ++s) {
-        if (e->vertex(s)->hessianIndex() >= 0) slots.push_back(index.at(e->vertex(s)));
-      }
-      for (std::size_t k = 1; k < slots.size(); ++k) uf.unite(slots[0], slots[k]);
-      if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;
-    }
-    std::vector<char> root_anchored(active.size(), 0);
-    for (std::size_t i = 0; i < active.size(); ++i) {
-      if (anchored[i]) root_anchored[uf.find(static_cast<int>(i))] = 1;
-    }
-    std::unordered_map<int, std::size_t> group_of_root;
-    for (std::size_t i = 0; i < active.size(); ++i) {
-      const int root = uf.find(static_cast<int>(i));
-      if (root_anchored[root]) continue;
-      auto [it, inserted] = group_of_root.emplace(root, summary.unanchored.size());
-      if (inserted) summary.unanchored.emplace_back();
-      auto& group = summary.unanchored[it->second];
-      if (group.size() < 20) group.push_back(active[i]->id());
-    }
-    for (const auto& group : summary.unanchored) {
-      std::string ids;
-      for (VertexId id : group) ids += " " + std::to_string(id);
-      log(LogLevel::kWarning,
-          "vertices with no anchor (no fixed vertex, no prior) — their "
-          "position is undetermined:" +
-              ids);
-    }
+  summary.unanchored = im.structure.unanchoredGroups();
+  for (const auto& group : summary.unanchored) {
+    std::string ids;
+    for (VertexId id : group) ids += " " + std::to_string(id);
+    log(LogLevel::kWarning,
+        "vertices with no anchor (no fixed vertex, no prior) — their position is undetermined:" +
+            ids);
   }
 
   summary.initial_chi2 = im.evalChi2(graph_);

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "block_ordering.h"
+#include "graphslam/core/block_ordering.h"
 #include "graphslam/solvers/register.h"
 
 namespace graphslam::solvers {
@@ -54,7 +54,7 @@ class CholmodSolver final : public LinearSolver {
     a_.dtype = CHOLMOD_DOUBLE;
     a_.sorted = 1;
     a_.packed = 1;
-    perm_ = detail::blockAmdOrdering(s);
+    perm_ = blockAmdOrdering(s);
     factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(

@@ -3,7 +3,7 @@
 #include <Eigen/SparseCore>
 #include <memory>
 
-#include "block_ordering.h"
+#include "graphslam/core/block_ordering.h"
 #include "graphslam/solvers/register.h"
 
 namespace graphslam::solvers {
@@ -23,7 +23,7 @@ class EigenSimplicialSolver final : public LinearSolver {
 
   LinearSolverResult analyze(const SparseStructure& s) override {
     structure_ = s;
-    order_ = detail::blockAmdOrdering(s);  // order_[k] = original column at position k
+    order_ = blockAmdOrdering(s);  // order_[k] = original column at position k
     p_.resize(s.n);
     for (int k = 0; k < s.n; ++k) p_.indices()[order_[k]] = k;  // original -> new
     pattern_done_ = false;

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "block_ordering.h"
+#include "graphslam/core/block_ordering.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
 
-namespace graphslam::solvers::detail {
+namespace graphslam {
 
 std::vector<int> blockAmdOrdering(const SparseStructure& s) {
   const int nb = s.num_blocks;
@@ -39,4 +39,4 @@ std::vector<int> blockAmdOrdering(const SparseStructure& s) {
   return perm;
 }
 
-}  // namespace graphslam::solvers::detail
+}  // namespace graphslam
