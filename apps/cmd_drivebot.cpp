@@ -33,7 +33,7 @@ constexpr const char* kUsage =
     "usage: graphslam drivebot (--scenario NAME | --experiment NAME) --out DIR [--plot]\n"
     "                          [--seed S] [--optimize-every N] [--sensors gps,compass,laser|none]\n"
     "                          [--remove-prediction-edges none|all|keep-first]\n"
-    "                          [--prune none|every-second|keyframe] [--max-steps N]\n"
+    "                          [--prune none|every-second|staggered|keyframe] [--max-steps N]\n"
     "                          [--laser-range R] [--compass-offset A] [...]\n"
     "Simulates the DriveBot vehicle of UCL COMP0130 coursework 2 on a scenario, runs the\n"
     "event-driven SLAM system on its events and writes per-step CSV, the final graph (.g2o),\n"
@@ -142,6 +142,12 @@ const std::vector<Experiment>& experiments() {
        [](Setup& s) {
          q3a(s);
          s.slam.prune = PruneRule::kEverySecond;
+       }},
+      {"q3_b_staggered",
+       "q3_a keeping every second observation of each landmark, staggered across landmarks",
+       [](Setup& s) {
+         q3a(s);
+         s.slam.prune = PruneRule::kStaggered;
        }},
       {"q3_b_keyframe", "q3_a keeping observations at keyframes (2 m / 15 deg) only",
        [](Setup& s) {
@@ -416,7 +422,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     ("no-noise", "exact measurements (sensor timing stays random)")
     ("max-steps", po::value<long>(), "stop after N steps")
     ("remove-prediction-edges", po::value<std::string>(), "none, all or keep-first (before each optimisation)")
-    ("prune", po::value<std::string>(), "landmark observations kept: none, every-second, keyframe")
+    ("prune", po::value<std::string>(), "landmark observations kept: none, every-second, staggered, keyframe")
+    ("prune-every", po::value<int>(), "every-second and staggered keep every N-th sighting (default 2)")
     ("keyframe-distance", po::value<double>(), "m (keyframe pruning; default 2)")
     ("keyframe-angle", po::value<double>(), "deg (keyframe pruning; default 15)")
     ("no-waypoint-quirk", "steer the right way on the step after a waypoint switch")
@@ -487,8 +494,11 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     slam.prune = parseChoice<PruneRule>("prune", vm["prune"].as<std::string>(),
                                         {{"none", PruneRule::kNone},
                                          {"every-second", PruneRule::kEverySecond},
+                                         {"staggered", PruneRule::kStaggered},
                                          {"keyframe", PruneRule::kKeyframe}});
   }
+  if (given("prune-every")) slam.prune_every = vm["prune-every"].as<int>();
+  if (slam.prune_every < 1) throw UsageError("--prune-every must be at least 1");
   if (given("keyframe-distance")) slam.keyframe_distance = vm["keyframe-distance"].as<double>();
   if (given("keyframe-angle")) slam.keyframe_angle = vm["keyframe-angle"].as<double>() * kPi / 180;
   if (given("no-waypoint-quirk")) sim.waypoint_sign_quirk = false;

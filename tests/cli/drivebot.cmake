@@ -75,7 +75,7 @@ if(MODE STREQUAL "short")
   endif()
 elseif(MODE STREQUAL "experiments")
   foreach(e q1_b q1_c_bug q1_c q1_d q1_e_i q1_e_ii q2_b q2_c q2_d q3_a q3_a_keep_first
-            q3_b_every_second q3_b_keyframe)
+            q3_b_every_second q3_b_staggered q3_b_keyframe)
     run(0 "final: +converged.*wrote" ${TOOL} drivebot --experiment ${e} --out ${e} -q)
   endforeach()
   run(1 "all prediction edges were removed" ${TOOL} drivebot --experiment q3_a_all --out q3_a_all -q)

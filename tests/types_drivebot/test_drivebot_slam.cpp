@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 #include "graphslam/core/error.h"
@@ -67,6 +68,18 @@ RunResult simulate(const std::string& scenario, SimulatorConfig sim, SlamSystemO
   RunResult r = runDriveBot(simulator, *keep, run);
   if (system_out) *system_out = keep.get();
   return r;
+}
+
+/// Vehicle states without a landmark observation edge.
+std::size_t statesWithoutObservations(const DriveBotSlamSystem& system) {
+  std::size_t n = 0;
+  for (VertexId id : system.vehicleVertices()) {
+    const auto& edges = system.graph().vertex(id)->edges();
+    n += std::none_of(edges.begin(), edges.end(), [](const Edge* e) {
+      return dynamic_cast<const EdgeLandmarkRangeBearing*>(e) != nullptr;
+    });
+  }
+  return n;
 }
 
 /// The q3_a laser (range 30 m) for `steps` steps.
@@ -304,10 +317,21 @@ TEST(DriveBot_Slam, PruningRules) {
   slam.optimize_every = 400;
   const RunResult none = simulate("q3_a", sim, slam);
   slam.prune = PruneRule::kEverySecond;
-  const RunResult half = simulate("q3_a", sim, slam);
+  DriveBotSlamSystem* last_system = nullptr;
+  const RunResult half = simulate("q3_a", sim, slam, {}, &last_system);
+  const std::size_t blind_half = statesWithoutObservations(*last_system);
+  slam.prune = PruneRule::kStaggered;
+  const RunResult staggered = simulate("q3_a", sim, slam, {}, &last_system);
+  // The staggered rule keeps as many edges (up to first sightings) but thins scans partly
+  // where the coursework's rule drops whole scans: fewer states keep no observation.
+  EXPECT_NEAR(static_cast<double>(staggered.statistics.observation_edges),
+              static_cast<double>(half.statistics.observation_edges), 13.0);
+  const std::size_t blind_staggered = statesWithoutObservations(*last_system);
+  EXPECT_GT(blind_half, 200u);
+  EXPECT_LT(blind_staggered, blind_half * 4 / 5);
   slam.prune = PruneRule::kKeyframe;
   const RunResult kf = simulate("q3_a", sim, slam);
-  for (const RunResult* r : {&none, &half, &kf}) {
+  for (const RunResult* r : {&none, &half, &staggered, &kf}) {
     ASSERT_FALSE(r->failed) << r->failure.message;
     EXPECT_EQ(r->statistics.observations_received, none.statistics.observations_received);
     EXPECT_EQ(r->statistics.landmark_vertices, none.statistics.landmark_vertices);

@@ -35,6 +35,8 @@ const char* toString(PruneRule rule) {
       return "none";
     case PruneRule::kEverySecond:
       return "every-second";
+    case PruneRule::kStaggered:
+      return "staggered";
     case PruneRule::kKeyframe:
       return "keyframe";
   }
@@ -75,6 +77,7 @@ DriveBotSlamSystem::DriveBotSlamSystem(const SolverRegistry& solvers, SlamSystem
       optimizer_(std::make_unique<Optimizer>(graph_, solvers, options_.optimizer)) {
   if (options_.optimize_every < 0) throw Error("DriveBot SLAM: optimize_every must be >= 0");
   if (options_.max_iterations < 1) throw Error("DriveBot SLAM: max_iterations must be >= 1");
+  if (options_.prune_every < 1) throw Error("DriveBot SLAM: prune_every must be >= 1");
 }
 
 DriveBotSlamSystem::~DriveBotSlamSystem() = default;
@@ -181,32 +184,60 @@ void DriveBotSlamSystem::handleCompass(const Event& event) {
   graph_.addEdge(std::move(edge));
 }
 
-void DriveBotSlamSystem::handleLandmarks(const Event& event) {
-  const Eigen::Matrix2d information = informationOf<2>(event);
-  bool keyframe = false;
-  if (options_.prune == PruneRule::kKeyframe) {
-    const Eigen::Vector3d x = current_vehicle_->estimate();
-    bool sees_new = false;
-    for (const auto& o : event.observations) sees_new |= landmark_ids_.count(o.landmark_id) == 0;
-    keyframe = keyframe_vertex_ == current_vehicle_->id() || !have_keyframe_ || sees_new ||
-               (x.head<2>() - last_keyframe_.head<2>()).norm() >= options_.keyframe_distance ||
-               std::abs(wrapAngle(x[2] - last_keyframe_[2])) >= options_.keyframe_angle;
-    if (keyframe) {
-      have_keyframe_ = true;
-      last_keyframe_ = x;
-      keyframe_vertex_ = current_vehicle_->id();
+std::vector<bool> DriveBotSlamSystem::selectObservations(const Event& event) {
+  const auto& obs = event.observations;
+  std::vector<bool> keep(obs.size(), true);
+  auto is_new = [&](const RangeBearing& o) { return landmark_ids_.count(o.landmark_id) == 0; };
+  auto seen = [&](const std::map<int, int>& counts, int id) {
+    const auto it = counts.find(id);
+    return it == counts.end() ? 0 : it->second;
+  };
+  const int n = options_.prune_every;
+  switch (options_.prune) {
+    case PruneRule::kNone:
+      break;
+    case PruneRule::kEverySecond:
+      for (std::size_t k = 0; k < obs.size(); ++k) {
+        keep[k] = seen(sightings_, obs[k].landmark_id) % n == 0;
+      }
+      break;
+    case PruneRule::kStaggered:
+      // Landmark j's phase is offset by j: scans are thinned partly, not dropped whole.
+      for (std::size_t k = 0; k < obs.size(); ++k) {
+        const int id = obs[k].landmark_id;
+        keep[k] = is_new(obs[k]) || (seen(sightings_, id) + id) % n == 0;
+      }
+      break;
+    case PruneRule::kKeyframe: {
+      const Eigen::Vector3d x = current_vehicle_->estimate();
+      const bool sees_new = std::any_of(obs.begin(), obs.end(), is_new);
+      const bool keyframe =
+          keyframe_vertex_ == current_vehicle_->id() || !have_keyframe_ || sees_new ||
+          (x.head<2>() - last_keyframe_.head<2>()).norm() >= options_.keyframe_distance ||
+          std::abs(wrapAngle(x[2] - last_keyframe_[2])) >= options_.keyframe_angle;
+      if (keyframe) {
+        have_keyframe_ = true;
+        last_keyframe_ = x;
+        keyframe_vertex_ = current_vehicle_->id();
+      }
+      for (std::size_t k = 0; k < obs.size(); ++k) keep[k] = keyframe || is_new(obs[k]);
+      break;
     }
   }
-  for (const auto& o : event.observations) {
+  return keep;
+}
+
+void DriveBotSlamSystem::handleLandmarks(const Event& event) {
+  const Eigen::Matrix2d information = informationOf<2>(event);
+  const std::vector<bool> keep = selectObservations(event);
+  for (std::size_t k = 0; k < event.observations.size(); ++k) {
+    const RangeBearing& o = event.observations[k];
     ++observations_received_;
-    const int sighting = sightings_[o.landmark_id]++;
+    ++sightings_[o.landmark_id];
     last_seen_step_[o.landmark_id] = step_number_;
+    if (!keep[k]) continue;
     auto found = landmark_ids_.find(o.landmark_id);
     const bool is_new = found == landmark_ids_.end();
-    bool keep = true;
-    if (options_.prune == PruneRule::kEverySecond) keep = sighting % 2 == 0;
-    if (options_.prune == PruneRule::kKeyframe) keep = keyframe || is_new;
-    if (!keep) continue;
     if (is_new) {
       auto l = std::make_unique<VertexLandmark>();
       l->setId(next_id_++);
@@ -246,7 +277,13 @@ Summary DriveBotSlamSystem::optimize(int max_iterations) {
     return summary;
   }
   removePredictionEdges();
-  constraints_ = checkConstraints(graph_);
+  // With every prediction edge in place each vehicle state hangs off the first one (fixed
+  // or under a prior) by a 3-dimensional edge and each landmark has an observation, so the
+  // check can only find something once prediction edges are removed (it costs about a
+  // tenth of an optimisation of an otherwise converged graph).
+  constraints_ = options_.remove_prediction_edges == PredictionEdgeRemoval::kNone
+                     ? ConstraintReport{}
+                     : checkConstraints(graph_);
   // Vertices without edges are left out of the optimisation and keep their estimates;
   // groups with no anchor or under-measured vertices would make the system singular.
   if (!constraints_.unanchored.empty() || !constraints_.too_few_measurements.empty()) {
