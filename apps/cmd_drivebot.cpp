@@ -127,6 +127,9 @@ const std::vector<Experiment>& experiments() {
          s.sim.max_steps = 2000;
          s.run.snapshot_loop_closure = true;
        }},
+      {"q2_e_large",
+       "laser SLAM on q3-large-test (200 landmarks; read from --data); optimise once at the end",
+       [](Setup& s) { laser(s, "q3-large-test"); }},
       {"q3_a", "laser range 30 m, optimise every 500 steps, prediction edges kept", q3a},
       {"q3_a_all", "q3_a removing all prediction edges (fails: nothing anchors the graph)",
        [](Setup& s) {
@@ -590,12 +593,22 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     }
   });
   writeStatistics(out_dir + "/graph_stats.csv", result.statistics);
+  writeFileAtomically(out_dir + "/summary.csv", [&](std::ostream& out) {
+    const Summary& f = result.final_summary;
+    out << "quantity,value\nsteps," << result.steps.size() << "\noptimizations,"
+        << result.optimizations << "\ntotal_optimization_time,"
+        << num(result.total_optimization_time) << "\nfinal_status," << toString(f.status)
+        << "\nfinal_chi2," << num(f.final_chi2) << "\nfinal_iterations," << f.iterations
+        << "\nfinal_time," << num(f.total_time) << "\nvehicle_marginals_time,"
+        << num(result.history_marginals.total_time) << "\nlandmark_marginals_time,"
+        << num(result.landmark_marginals.total_time) << "\n";
+  });
   if (result.loop_closure) {
     writeLoopClosure(out_dir + "/loop_closure.csv", *result.loop_closure, scenario);
   }
   io::saveG2o(out_dir + "/final.g2o", system.graph(), reg.types);
   std::printf(
-      "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv%s, "
+      "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv%s, "
       "final.g2o}\n",
       out_dir.c_str(), result.loop_closure ? ", loop_closure.csv" : "");
   if (vm.count("plot")) {

@@ -4,7 +4,7 @@
 diagonals, chi2 and optimisation time against time, the map with landmark covariance
 ellipses, and (when DIR/loop_closure.csv exists) the map just before and just after the
 loop closure with the change of each landmark's covariance determinant.
-Reads DIR/steps.csv, landmarks.csv, scenario.csv, loop_closure.csv.
+Reads DIR/steps.csv, landmarks.csv, scenario.csv, summary.csv, loop_closure.csv.
 usage: plot_drivebot.py DIR TITLE"""
 import csv
 import math
@@ -77,21 +77,23 @@ def covariance_plot(steps, out_dir, title):
     save(fig, out_dir, "covariance.png")
 
 
-def time_series(opt, out_dir, title, name, ylabel, subtitle, draw):
+def time_series(opt, out_dir, title, name, ylabel, subtitle, draw, note):
     """One plot of the optimised steps against time (or a note when there are none)."""
     fig, ax = plt.subplots(figsize=(8, 3.5))
     if opt:
         draw(ax)
     else:
-        ax.text(0.5, 0.5, "optimised only after the last step", transform=ax.transAxes, ha="center")
+        ax.text(0.5, 0.5, note, transform=ax.transAxes, ha="center")
     ax.set_xlabel("time (s)")
     ax.set_ylabel(ylabel)
     ax.set_title(f"{title}\n{subtitle}", fontsize=9)
     save(fig, out_dir, name)
 
 
-def optimisation_plots(steps, out_dir, title):
+def optimisation_plots(steps, summary, out_dir, title):
     opt = [r for r in steps if r["optimized"] == "1"]
+    note = (f"optimised only after the last step: chi2 {float(summary['final_chi2']):.6g}, "
+            f"{summary['final_iterations']} iterations, {1e3 * float(summary['final_time']):.1f} ms")
 
     def chi2_curve(ax):
         chi2 = column(opt, "chi2")
@@ -109,9 +111,9 @@ def optimisation_plots(steps, out_dir, title):
         ax.set_ylim(bottom=0)
 
     time_series(opt, out_dir, title, "chi2.png", "chi2 after optimisation",
-                "chi2 at each optimisation during the run", chi2_curve)
+                "chi2 at each optimisation during the run", chi2_curve, note)
     time_series(opt, out_dir, title, "optimization_time.png", "optimisation time (ms)",
-                "wall time of each optimisation during the run", time_points)
+                "wall time of each optimisation during the run", time_points, note)
 
 
 def ellipse(ax, x, y, cxx, cxy, cyy, scale, **kw):
@@ -143,7 +145,9 @@ def ellipse_scale(landmark_sets, extent):
 
 
 def draw_map(ax, steps, scenario, landmarks, scale, upto=None, vehicle=None):
-    rows = steps if upto is None else [r for r in steps if int(r["step"]) <= upto]
+    # Vertices without covariance (no edge, not estimated) keep their predictions: left out.
+    rows = [r for r in steps if upto is not None or r["var_x"] != "nan"]
+    rows = rows if upto is None else [r for r in rows if int(r["step"]) <= upto]
     ax.plot(column(rows, "true_x"), column(rows, "true_y"), "-", color="gray", lw=1, label="true path")
     key = "x" if upto is None else "online_x"
     ax.plot(column(rows, key), column(rows, key.replace("x", "y")), "-", color="tab:blue", lw=0.8,
@@ -221,7 +225,8 @@ def main():
     landmarks = read(os.path.join(out_dir, "landmarks.csv"))
     errors_plot(steps, out_dir, title)
     covariance_plot(steps, out_dir, title)
-    optimisation_plots(steps, out_dir, title)
+    summary = {r["quantity"]: r["value"] for r in read(os.path.join(out_dir, "summary.csv"))}
+    optimisation_plots(steps, summary, out_dir, title)
     map_plot(steps, scenario, landmarks, out_dir, title)
     lc = os.path.join(out_dir, "loop_closure.csv")
     if os.path.exists(lc):

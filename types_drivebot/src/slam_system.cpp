@@ -387,6 +387,7 @@ MarginalSummary DriveBotSlamSystem::landmarkEstimates(std::vector<LandmarkEstima
   out.clear();
   std::vector<VertexId> ids;
   for (const auto& [landmark, vertex] : landmark_ids_) ids.push_back(vertex);
+  if (ids.empty()) return {};
   MarginalSummary s = marginals_.compute(graph_, ids);
   for (const auto& [landmark, vertex] : landmark_ids_) {
     const auto* v = static_cast<const VertexLandmark*>(graph_.vertex(vertex));
