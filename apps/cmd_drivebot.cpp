@@ -384,6 +384,8 @@ void printReport(const Setup& setup, const Scenario& scenario, const RunResult& 
     std::printf("loop closure:  at step %ld (t = %.1f s), landmarks seen again:", lc.step,
                 lc.after.time);
     for (int id : lc.landmark_ids) std::printf(" %d", id);
+    std::printf("; all landmark covariances in %.4f s before, %.4f s after",
+                lc.before.marginals.total_time, lc.after.marginals.total_time);
     std::printf("\n  landmark  det(P) before  det(P) after  after/before  last seen (step)\n");
     for (const auto& b : lc.before.landmarks) {
       for (const auto& a : lc.after.landmarks) {
