@@ -550,6 +550,14 @@ int cmdDrivebot(const std::vector<std::string>& args) {
       toString(slam.remove_prediction_edges), toString(slam.prune));
   std::fflush(stdout);
 
+  {
+    std::error_code ec;  // before the run, so a long run does not end in an unwritable place
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec || !std::filesystem::is_directory(out_dir)) {
+      throw Error("cannot create the output directory '" + out_dir + "'" +
+                  (ec ? ": " + ec.message() : ""));
+    }
+  }
   Simulator simulator(scenario, sim);
   DriveBotSlamSystem system(reg.solvers, slam);
   if (!quiet) {
@@ -577,7 +585,6 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   }
 
   printReport(setup, scenario, result);
-  std::filesystem::create_directories(out_dir);
   writeSteps(out_dir + "/steps.csv", result);
   writeFileAtomically(out_dir + "/landmarks.csv", [&](std::ostream& out) {
     out << kLandmarkHeader;
