@@ -3,13 +3,16 @@
 #pragma once
 
 #include <boost/program_options.hpp>
+#include <initializer_list>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "builtins.h"
+#include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
 
 namespace graphslam::apps {
@@ -49,6 +52,28 @@ inline po::variables_map parse(const std::vector<std::string>& args,
   return vm;
 }
 
+/// The value of `option` among `choices` (name, value); otherwise a UsageError
+/// "--option must be a, b or c, not 'value'".
+template <typename T>
+T parseChoice(const std::string& option, const std::string& value,
+              std::initializer_list<std::pair<const char*, T>> choices) {
+  std::string names;
+  std::size_t k = 0;
+  for (const auto& [name, v] : choices) {
+    if (value == name) return v;
+    names += (k == 0 ? "" : (k + 1 == choices.size() ? " or " : ", ")) + std::string(name);
+    ++k;
+  }
+  throw UsageError("--" + option + " must be " + names + ", not '" + value + "'");
+}
+
+inline Algorithm parseAlgorithm(const std::string& value) {
+  return parseChoice<Algorithm>("algorithm", value,
+                                {{"auto", Algorithm::kGaussNewtonFallback},
+                                 {"gn", Algorithm::kGaussNewton},
+                                 {"lm", Algorithm::kLevenbergMarquardt}});
+}
+
 inline void printHelp(const char* usage, const po::options_description& desc) {
   std::cout << usage << "\n\n" << desc << "\n";
 }
@@ -58,6 +83,7 @@ int cmdEval(const std::vector<std::string>& args);
 int cmdDeadreckon(const std::vector<std::string>& args);
 int cmdConvert(const std::vector<std::string>& args);
 int cmdInfo(const std::vector<std::string>& args);
+int cmdDrivebot(const std::vector<std::string>& args);
 int cmdSolvers(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

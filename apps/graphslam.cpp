@@ -143,22 +143,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
-  if (damping == "identity") {
-    options.damping = Optimizer::Options::Damping::kIdentity;
-  } else if (damping == "diagonal") {
-    options.damping = Optimizer::Options::Damping::kDiagonal;
-  } else {
-    throw UsageError("--damping must be identity or diagonal, not '" + damping + "'");
-  }
-  if (algorithm == "auto") {
-    options.algorithm = Algorithm::kGaussNewtonFallback;
-  } else if (algorithm == "gn") {
-    options.algorithm = Algorithm::kGaussNewton;
-  } else if (algorithm == "lm") {
-    options.algorithm = Algorithm::kLevenbergMarquardt;
-  } else {
-    throw UsageError("--algorithm must be auto, gn or lm, not '" + algorithm + "'");
-  }
+  options.damping = parseChoice<Optimizer::Options::Damping>(
+      "damping", damping,
+      {{"identity", Optimizer::Options::Damping::kIdentity},
+       {"diagonal", Optimizer::Options::Damping::kDiagonal}});
+  options.algorithm = parseAlgorithm(algorithm);
   options.max_iterations = iterations;
   options.linear_solver = solver;
 
@@ -397,6 +386,7 @@ constexpr const char* kMainUsage =
     "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"
     "  convert        relative-pose matrix -> .g2o pose graph; .g2o -> TUM / KITTI\n"
     "  info           counts, components, fixed vertices, sparsity picture of H\n"
+    "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n";
@@ -427,6 +417,7 @@ int main(int argc, char** argv) {
     if (command == "deadreckon") return cmdDeadreckon(args);
     if (command == "convert") return cmdConvert(args);
     if (command == "info") return cmdInfo(args);
+    if (command == "drivebot") return cmdDrivebot(args);
     if (command == "solvers") return cmdSolvers(args);
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;

@@ -433,8 +433,10 @@ Summary Optimizer::optimize() {
     const bool small_change =
         options_.function_tolerance > 0 &&
         std::abs(old_chi2 - new_chi2) <= options_.function_tolerance * old_chi2;
-    if ((small_change || step < options_.step_tolerance) &&
-        !(fallback && !damped && chi2 > best_chi2)) {
+    // A Gauss-Newton phase at the optimum sees chi2 jitter by rounding; above the best
+    // chi2 by no more than the function tolerance counts as being there.
+    const bool above_best = chi2 > best_chi2 + options_.function_tolerance * std::abs(best_chi2);
+    if ((small_change || step < options_.step_tolerance) && !(fallback && !damped && above_best)) {
       summary.status = TerminationStatus::kConverged;
       break;
     }

@@ -1,0 +1,90 @@
+# SPDX-License-Identifier: MIT
+# graphslam drivebot end to end. MODE=short: a few short runs (files written, the final
+# graph reloads, plots drawn when matplotlib is there, the q3_a failure leaves nothing
+# behind). MODE=experiments: every coursework experiment at full length. MODE=every-step:
+# q2_c optimised after every step (long).
+#   cmake -DTOOL=... -DWORK=... -DMODE=short|experiments|every-step -P drivebot.cmake
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+function(run expect_exit expect_regex)
+  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                  ERROR_VARIABLE err)
+  message("$ ${ARGN}\n${out}${err}")
+  if(NOT rc EQUAL expect_exit)
+    message(FATAL_ERROR "exit code ${rc}, expected ${expect_exit}")
+  endif()
+  if(NOT "${out}${err}" MATCHES "${expect_regex}")
+    message(FATAL_ERROR "output does not match '${expect_regex}'")
+  endif()
+endfunction()
+function(expect_files dir)
+  foreach(f ${ARGN})
+    if(NOT EXISTS "${WORK}/${dir}/${f}")
+      message(FATAL_ERROR "${dir}/${f} was not written")
+    endif()
+  endforeach()
+endfunction()
+
+if(MODE STREQUAL "short")
+  run(0 "graph: +400 vehicle vertices, 5 landmark vertices.*observations: .*per landmark.*wrote"
+      ${TOOL} drivebot --experiment q2_b --max-steps 400 --out q2b)
+  expect_files(q2b steps.csv landmarks.csv scenario.csv graph_stats.csv final.g2o)
+  file(STRINGS ${WORK}/q2b/steps.csv rows)
+  list(LENGTH rows n)
+  if(NOT n EQUAL 401)
+    message(FATAL_ERROR "steps.csv has ${n} lines, expected 401 (header + 400 steps)")
+  endif()
+  run(0 "405 vertices, 787 edges.*VERTEX_VEHICLE +400.*fixed vertices: 1: 0" ${TOOL} info q2b/final.g2o)
+  run(0 "status: +converged" ${TOOL} optimize q2b/final.g2o --init none)
+  # Same seed, same graph (steps.csv also holds wall times); another seed, another graph.
+  run(0 "wrote" ${TOOL} drivebot --experiment q2_b --max-steps 400 --out q2b_again -q)
+  file(READ ${WORK}/q2b/final.g2o a)
+  file(READ ${WORK}/q2b_again/final.g2o b)
+  if(NOT a STREQUAL b)
+    message(FATAL_ERROR "the same seed gave a different final.g2o")
+  endif()
+  run(0 "wrote" ${TOOL} drivebot --experiment q2_b --max-steps 400 --seed 9 --out q2b_seed9 -q)
+  file(READ ${WORK}/q2b_seed9/final.g2o c)
+  if(a STREQUAL c)
+    message(FATAL_ERROR "seeds 1 and 9 gave the same final.g2o")
+  endif()
+  # q3_a with all prediction edges removed: a diagnosis naming vertices, exit 1, no files.
+  run(1 "optimisation at step 499 .*failed: under-determined.*no fixed vertex or prior connects to [0-9]+ vehicle vertices 1.*landmarks.*all prediction edges were removed.*first vehicle vertex 0.*no results written"
+      ${TOOL} drivebot --experiment q3_a_all --max-steps 600 --out q3a_all)
+  if(EXISTS "${WORK}/q3a_all/steps.csv" OR EXISTS "${WORK}/q3a_all/final.g2o")
+    message(FATAL_ERROR "the failed run wrote results")
+  endif()
+  run(0 "prediction edges removed: keep-first.*graph: .* \\(1 prediction"
+      ${TOOL} drivebot --experiment q3_a_keep_first --max-steps 600 --out q3a_keep_first)
+  # Options override the preset; bad options are usage errors.
+  run(0 "sensors odometry, gps, compass, optimise every 7 steps.*GPS.*compass"
+      ${TOOL} drivebot --scenario q1_e --sensors gps,compass --optimize-every 7 --max-steps 100 --out q1e)
+  run(2 "--prune must be none, every-second, staggered or keyframe, not .often." ${TOOL} drivebot --scenario q1_b --prune often --out x)
+  run(2 "scenario 'q9' is neither built in" ${TOOL} drivebot --scenario q9 --out x)
+  run(2 "needs --out" ${TOOL} drivebot --experiment q1_b)
+  run(2 "unknown experiment" ${TOOL} drivebot --experiment q7 --out x)
+  run(0 "q2_d +laser SLAM without noise" ${TOOL} drivebot --list-experiments)
+  # Plots, when matplotlib is available.
+  execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE no_mpl OUTPUT_QUIET ERROR_QUIET)
+  if(no_mpl)
+    message("matplotlib not importable by /usr/bin/python3: plots not checked")
+  else()
+    run(0 "loop closure: +at step 12[0-9][0-9].*plots:"
+        ${TOOL} drivebot --experiment q2_d --out q2d --plot -q)
+    expect_files(q2d errors.png covariance.png chi2.png optimization_time.png map.png loop_closure.png
+                 loop_closure.csv)
+  endif()
+elseif(MODE STREQUAL "experiments")
+  foreach(e q1_b q1_c_bug q1_c q1_d q1_e_i q1_e_ii q2_b q2_c q2_d q3_a q3_a_keep_first
+            q3_b_every_second q3_b_staggered q3_b_keyframe)
+    run(0 "final: +converged.*wrote" ${TOOL} drivebot --experiment ${e} --out ${e} -q)
+  endforeach()
+  run(1 "all prediction edges were removed" ${TOOL} drivebot --experiment q3_a_all --out q3_a_all -q)
+elseif(MODE STREQUAL "every-step")
+  # q2_c optimised after each of its 5273 steps: one Gauss-Newton iteration per step once
+  # the estimate is converged, the same final chi2 as optimising once at the end.
+  run(0 "optimisation: +5274 runs.*final: +converged, chi2 6326.25, 1 iterations"
+      ${TOOL} drivebot --experiment q2_c_every_step --out every_step -q)
+else()
+  message(FATAL_ERROR "MODE must be short, experiments or every-step")
+endif()

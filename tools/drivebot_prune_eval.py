@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Evaluates the DriveBot pruning rules on the coursework's q3_a setting (laser range 30 m,
+optimise every 500 steps) over several seeds, against the unpruned graph of the same seed:
+observation edges kept, mean marginal vehicle variance (var x + var y) and landmark variance
+relative to the unpruned graph, RMS distance of the estimate from the unpruned estimate and
+from the truth, and total optimisation time. Writes a Markdown table on stdout and, with
+--plot FILE, variance against edges kept.
+usage: drivebot_prune_eval.py GRAPHSLAM WORKDIR [--seeds N] [--plot FILE.png]"""
+import argparse
+import csv
+import math
+import os
+import re
+import statistics
+import subprocess
+
+RULES = [("none", [])]
+for n in (2, 3, 4):
+    RULES.append((f"every-nth n={n}", ["--prune", "every-second", "--prune-every", str(n)]))
+    RULES.append((f"staggered n={n}", ["--prune", "staggered", "--prune-every", str(n)]))
+for d in ("0.3", "0.5", "1", "2"):
+    RULES.append((f"keyframe {d} m", ["--prune", "keyframe", "--keyframe-distance", d]))
+
+
+def run(tool, work, name, args, seed):
+    out = os.path.join(work, f"{name.replace(' ', '_').replace('=', '')}_{seed}")
+    p = subprocess.run([tool, "drivebot", "--experiment", "q3_a", "--seed", str(seed), "--out", out, "-q"] + args,
+                       capture_output=True, text=True, check=True)
+    steps = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
+    landmarks = {r["landmark"]: r for r in csv.DictReader(open(os.path.join(out, "landmarks.csv")))}
+    stats = {r["quantity"]: r["value"] for r in csv.DictReader(open(os.path.join(out, "graph_stats.csv")))}
+    seconds = float(re.search(r"optimisation: +\d+ runs, ([0-9.]+) s", p.stdout).group(1))
+    return steps, landmarks, stats, seconds
+
+
+def rms(values):
+    return math.sqrt(statistics.mean(values))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("tool")
+    ap.add_argument("work")
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--plot")
+    a = ap.parse_args()
+    seeds = range(1, a.seeds + 1)
+    full = {s: run(a.tool, a.work, "none", [], s) for s in seeds}
+    print("| rule | observation edges | share | vehicle var / unpruned | landmark var / unpruned "
+          "| RMS from unpruned estimate (m) | RMS error (m) | optimisation time (s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    curves = {}
+    for name, args in RULES:
+        cols = {k: [] for k in ("edges", "share", "var", "lvar", "dev", "err", "time")}
+        for s in seeds:
+            st, lm, gs, t = full[s] if name == "none" else run(a.tool, a.work, name, args, s)
+            st0, lm0, gs0, _ = full[s]
+            idx = [k for k, r in enumerate(st) if r["var_x"] != "nan"]
+            cols["edges"].append(int(gs["observation_edges"]))
+            cols["share"].append(int(gs["observation_edges"]) / int(gs0["observation_edges"]))
+            cols["var"].append(statistics.mean(float(st[k]["var_x"]) + float(st[k]["var_y"]) for k in idx) /
+                               statistics.mean(float(st0[k]["var_x"]) + float(st0[k]["var_y"]) for k in idx))
+            cols["lvar"].append(statistics.mean(float(r["cov_xx"]) + float(r["cov_yy"]) for r in lm.values()) /
+                                statistics.mean(float(r["cov_xx"]) + float(r["cov_yy"]) for r in lm0.values()))
+            cols["dev"].append(rms([(float(st[k]["x"]) - float(st0[k]["x"])) ** 2 +
+                                    (float(st[k]["y"]) - float(st0[k]["y"])) ** 2 for k in idx]))
+            cols["err"].append(rms([(float(st[k]["x"]) - float(st[k]["true_x"])) ** 2 +
+                                    (float(st[k]["y"]) - float(st[k]["true_y"])) ** 2 for k in idx]))
+            cols["time"].append(t)
+        m = {k: statistics.mean(v) for k, v in cols.items()}
+        print(f"| {name} | {m['edges']:.0f} | {m['share']:.3f} | {m['var']:.3f} | {m['lvar']:.3f} | "
+              f"{m['dev']:.3f} | {m['err']:.3f} | {m['time']:.3f} |", flush=True)
+        family = name.split(" ")[0]
+        curves.setdefault(family, []).append((m["share"], m["var"]))
+    if a.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6.5, 4))
+        for family, pts in curves.items():
+            if family == "none":
+                continue
+            pts.sort()
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", ms=4, label=family)
+        ax.set_xlabel("share of landmark observations kept as edges")
+        ax.set_ylabel("mean vehicle variance / unpruned")
+        ax.set_title(f"q3_a pruning rules, mean over {a.seeds} seeds", fontsize=9)
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(a.plot, dpi=90)
+
+
+if __name__ == "__main__":
+    main()
