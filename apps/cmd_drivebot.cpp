@@ -461,6 +461,24 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     }
     it->apply(setup);
     setup.description = std::string(it->name) + ": " + it->description;
+    // Options given beside the preset change it: say so in titles and reports.
+    std::string overrides;
+    for (const auto& [key, value] : vm) {
+      if (value.defaulted() || key == "experiment" || key == "out" || key == "plot" ||
+          key == "data" || key == "seed") {
+        continue;
+      }
+      overrides += " --" + key;
+      try {
+        overrides += " " + value.as<std::string>();
+      } catch (const boost::bad_any_cast&) {
+        try {
+          overrides += " " + std::to_string(value.as<int>());
+        } catch (const boost::bad_any_cast&) {
+        }
+      }
+    }
+    if (!overrides.empty()) setup.description += " (changed by" + overrides + ")";
   }
   if (given("scenario")) setup.scenario = vm["scenario"].as<std::string>();
   if (setup.scenario.empty())
