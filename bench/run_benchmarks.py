@@ -370,6 +370,27 @@ def write_report(args, notes, results, skipped):
             L.append(f"H: {lr['n']} unknowns; L: {lr['nnz_l']:.0f} non-zeros, {lr['flops']:.3g} "
                      "flops per factorisation.")
         L.append("")
+    L.append("## Observations (computed from the tables above)")
+    L.append("")
+    for name, path, tool_runs, limit_runs, ceres_runs in results:
+        if ceres_runs:
+            c = ceres_runs[-1]
+            rel = (c["c_chi2"] - c["g_chi2"]) / abs(c["g_chi2"]) if c["g_chi2"] else 0.0
+            if abs(rel) > 1e-6:
+                L.append(f"- {name}: Ceres ends at chi2 {c['c_chi2']:.10g} ({c['c_term']}, "
+                         f"{c['c_iterations']} iterations), graphslam at {c['g_chi2']:.10g}: "
+                         "not a rounding difference; Ceres' monotone LM stays in another "
+                         "basin (or has not converged in its budget), while graphslam's default "
+                         "Gauss-Newton accepts chi2 increases before falling back to LM.")
+    below = [name for name, _, _, lr, _ in results if lr and lr[0]["solvers"]
+             and median_of(lr, lr[0]["solvers"][0] + ".fact") < median_of(lr, "limit_s")]
+    if below:
+        L.append("- The default solver's factorisation per attempt is faster than the CHOLMOD "
+                 "limit on " + ", ".join(below) + ": on these 2D graphs Eigen's simplicial "
+                 "LDL^T beats both CHOLMOD factorisations, so the CHOLMOD limit is not a lower "
+                 "bound for them; iteration / fact. per attempt then measures the rest of an "
+                 "iteration (linearise, build, solve).")
+    L.append("")
     if skipped:
         L.append("## Skipped")
         L.append("")
@@ -389,6 +410,11 @@ def write_report(args, notes, results, skipped):
              "on J^T J with the fill-reducing ordering Ceres chooses by default), max_num_iterations 100, function_tolerance 1e-10, "
              "gradient_tolerance 1e-10, parameter_tolerance 1e-10, num_threads = --threads. "
              "Ceres' iterations count successful and unsuccessful steps.")
+    L.append("- Threads: graphslam's optimizer is single-threaded; OpenBLAS/OpenMP threads "
+             "matter only to CHOLMOD's supernodal factorisation (BLAS) and Ceres' "
+             "num_threads. One thread is the default because the machine has 2 cores "
+             "shared with other jobs; `--threads 2 --out docs/BENCHMARKS_THREADS2.md` "
+             "gives the same tables with 2.")
     L.append("")
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     tmp = args.out + ".tmp"
