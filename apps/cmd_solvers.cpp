@@ -280,9 +280,9 @@ int cmdSolvers(const std::vector<std::string>& args) {
       "refine", po::value(&refine)->default_value(1),
       "steps of iterative refinement for the normal-equation solvers, x -= H^-1 J^T (J x + r) "
       "(the gradient from J, not H: corrected semi-normal equations), timed as part of the "
-      "solve; QR on J needs none")(
-      "eigen-qr-max-nnz", po::value(&qr_max_nnz)->default_value(100000),
-      "skip eigen-qr when J has more non-zeros (0: never skip)")(
+      "solve; QR on J needs none")("eigen-qr-max-nnz",
+                                   po::value(&qr_max_nnz)->default_value(100000),
+                                   "skip eigen-qr when J has more non-zeros (0: never skip)")(
       "plugin", po::value(&plugins)->composing(), "load solvers/types from this library");
   po::positional_options_description pos;
   pos.add("input", 1);
@@ -395,8 +395,9 @@ int cmdSolvers(const std::vector<std::string>& args) {
                                  : " (dense, O(n^3) time and n^2 memory)");
     } else if (name == "eigen-qr" && qr_max_nnz > 0 &&
                sys.jacobianNonZeros() > static_cast<std::size_t>(qr_max_nnz)) {
-      skip = "J has " + std::to_string(sys.jacobianNonZeros()) + " non-zeros > --eigen-qr-max-nnz " +
-             std::to_string(qr_max_nnz) + " (Eigen's SparseQR takes minutes there)";
+      skip = "J has " + std::to_string(sys.jacobianNonZeros()) +
+             " non-zeros > --eigen-qr-max-nnz " + std::to_string(qr_max_nnz) +
+             " (Eigen's SparseQR takes minutes there)";
     }
     if (!skip.empty()) {
       Row row;
@@ -456,8 +457,9 @@ int cmdSolvers(const std::vector<std::string>& args) {
       v->oplus(reference.data() + v->hessianIndex());
     }
     const auto after = types_slam2d::positionErrors(graph, in.ground_truth);
-    std::printf("position error vs ground truth (m) of the estimate, before -> after the reference "
-                "step:\n");
+    std::printf(
+        "position error vs ground truth (m) of the estimate, before -> after the reference "
+        "step:\n");
     printErrors("poses", before.poses, after.poses);
     printErrors("landmarks", before.landmarks, after.landmarks);
   }

@@ -38,7 +38,8 @@ namespace {
 
 constexpr const char* kOptimizeUsage =
     "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm]\n"
-    "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin LIB]...\n"
+    "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin "
+    "LIB]...\n"
     "                          [--stats FILE.csv] [--plot FILE.png] [--quiet]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"

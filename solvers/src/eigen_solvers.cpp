@@ -444,10 +444,11 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "dense-pinv", "dense pseudo-inverse of H from its eigendecomposition (Eigen)",
       SystemForm::kNormalEquations, {Ordering::kNatural},
       [](const LinearSolverOptions&) { return std::make_unique<DensePinvSolver>(); });
-  registry.registerSolver(
-      "pcg", "conjugate gradients on H, block-Jacobi preconditioner, relative residual 1e-14 (at most 5000 iterations)",
-      SystemForm::kNormalEquations, {Ordering::kNatural},
-      [](const LinearSolverOptions&) { return std::make_unique<PcgSolver>(); });
+  registry.registerSolver("pcg",
+                          "conjugate gradients on H, block-Jacobi preconditioner, relative "
+                          "residual 1e-14 (at most 5000 iterations)",
+                          SystemForm::kNormalEquations, {Ordering::kNatural},
+                          [](const LinearSolverOptions&) { return std::make_unique<PcgSolver>(); });
 }
 
 void registerSolvers(SolverRegistry& registry) {
