@@ -437,7 +437,7 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     ("loop-closure", "landmark covariances just before and after the first loop closure")
     ("loop-closure-gap", po::value<long>(), "steps between sightings that count as a loop closure (default 200)")
     ("algorithm", po::value<std::string>(), "auto, gn or lm (default auto)")
-    ("solver", po::value<std::string>(), "linear solver (default eigen-ldlt)")
+    ("solver", po::value<std::string>(), "linear solver (default auto)")
     ("quiet,q", "print only the report");
   // clang-format on
   const auto vm = parse(args, desc);

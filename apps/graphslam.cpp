@@ -105,7 +105,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")(
       "algorithm", po::value(&algorithm)->default_value("auto"),
       "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm "
-      "(Levenberg-Marquardt)")("solver", po::value(&solver)->default_value("eigen-ldlt"),
+      "(Levenberg-Marquardt)")("solver", po::value(&solver)->default_value("auto"),
                                "linear solver (see graphslam list-solvers)")(
       "plugin", po::value(&plugins)->composing(),
       "load types/solvers from this shared library (repeatable)")(
@@ -195,7 +195,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
     }
   }
   if (init == "global") {
-    const auto r = types_slam2d::initializeGlobal(graph);
+    // The initial guess's two linear systems get the default solver's choice of ordering
+    // and backend (large graphs need nested dissection and a supernodal factorisation).
+    const auto init_solver = reg.solvers.create("auto");
+    const auto r = types_slam2d::initializeGlobal(graph, init_solver.get());
     if (!r.message.empty()) {
       std::cout << "initialisation: " << r.message << "\n";
     } else {

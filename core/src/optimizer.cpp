@@ -265,6 +265,10 @@ Summary Optimizer::optimize() {
     }
     im.analyzed = true;
   }
+  // A solver that chooses its backend at analysis ("auto") names its choice.
+  if (im.solver->name().rfind(options_.linear_solver, 0) == 0) {
+    summary.linear_solver = im.solver->name();
+  }
   setup.build += seconds(t0, Clock::now());
   summary.time += setup;
 

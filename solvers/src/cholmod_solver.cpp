@@ -17,7 +17,7 @@ namespace {
 /// CHOLMOD Cholesky (supernodal or simplicial LL^T) with an ordering computed on the
 /// block graph and given to CHOLMOD. H is passed without copying: the cholmod_sparse header points
 /// at the optimizer's CSC arrays (upper triangle, stype = 1).
-class CholmodSolver final : public LinearSolver {
+class CholmodSolver final : public detail::OrderedSolver {
  public:
   CholmodSolver(std::string name, bool supernodal, Ordering ordering)
       : name_(std::move(name)), supernodal_(supernodal), ordering_(ordering) {
@@ -41,6 +41,12 @@ class CholmodSolver final : public LinearSolver {
   Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
+    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
+  }
+
+  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
+                                    Ordering label) override {
+    ordering_ = label;
     freeFactor();
     freeDense();
     n_ = s.n;
@@ -56,7 +62,7 @@ class CholmodSolver final : public LinearSolver {
     a_.dtype = CHOLMOD_DOUBLE;
     a_.sorted = 1;
     a_.packed = 1;
-    perm_ = detail::orderColumns(ordering_, s);
+    perm_ = std::move(order);
     factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
@@ -172,7 +178,7 @@ class CholmodSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> makeCholmodSolver(bool supernodal, Ordering ordering) {
+std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering) {
   return std::make_unique<CholmodSolver>(supernodal ? "cholmod" : "cholmod-simplicial", supernodal,
                                          ordering);
 }

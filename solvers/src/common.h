@@ -92,6 +92,17 @@ inline bool dampingIsZero(const JacobianStructure& s, const double* values) {
   return true;
 }
 
+/// A normal-equations solver that can also take a fill-reducing order computed elsewhere
+/// (the auto solver picks the ordering and the backend separately).
+class OrderedSolver : public LinearSolver {
+ public:
+  /// As analyze(), with `order` (order[k] = original column at position k) instead of
+  /// the solver's own ordering; ordering() then reports `label`.
+  [[nodiscard]] virtual LinearSolverResult analyzeOrdered(const SparseStructure& s,
+                                                          std::vector<int> order,
+                                                          Ordering label) = 0;
+};
+
 inline LinearSolverResult notFinite() {
   return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
 }

@@ -18,7 +18,7 @@ using detail::SpMat;
 
 /// Eigen's simplicial Cholesky (LDL^T or LL^T) on P H P^T, P from the chosen ordering.
 template <typename Factorization>
-class EigenSimplicialSolver final : public LinearSolver {
+class EigenSimplicialSolver final : public detail::OrderedSolver {
  public:
   EigenSimplicialSolver(std::string name, Ordering ordering)
       : name_(std::move(name)), ordering_(ordering) {}
@@ -27,8 +27,14 @@ class EigenSimplicialSolver final : public LinearSolver {
   Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
+    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
+  }
+
+  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
+                                    Ordering label) override {
     n_ = s.n;
-    order_ = detail::orderColumns(ordering_, s);  // order_[k] = original column at k
+    ordering_ = label;
+    order_ = std::move(order);  // order_[k] = original column at k
     permuted_.build(s, order_);
     pattern_done_ = false;
     return LinearSolverResult::success();
@@ -421,6 +427,10 @@ class PcgSolver final : public LinearSolver {
 
 }  // namespace
 
+std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
+  return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", Ordering::kAmd);
+}
+
 void registerEigenSolvers(SolverRegistry& registry) {
   const auto orderings = detail::availableOrderings();
   registry.registerSolver(
@@ -452,6 +462,7 @@ void registerEigenSolvers(SolverRegistry& registry) {
 }
 
 void registerSolvers(SolverRegistry& registry) {
+  registerAutoSolver(registry);
   registerEigenSolvers(registry);
   if (haveSuiteSparse()) registerSuiteSparseSolvers(registry);
 }

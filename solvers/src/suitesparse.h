@@ -4,11 +4,12 @@
 
 #include <memory>
 
+#include "common.h"
 #include "graphslam/core/linear_solver.h"
 
 namespace graphslam::solvers {
 
-std::unique_ptr<LinearSolver> makeCholmodSolver(bool supernodal, Ordering ordering);
+std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering);
 std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cstdio>
 #include <random>
 #include <set>
 
@@ -318,6 +319,97 @@ TEST(Solvers_Registry, EveryBackendAndOrderingIsRegistered) {
   EXPECT_THROW((void)registry.create("dense-ldlt:amd"), RegistryError);
   EXPECT_THROW((void)registry.create("eigen-ldlt:nonsense"), RegistryError);
   EXPECT_EQ(registry.create("eigen-ldlt")->ordering(), Ordering::kAmd);
+}
+
+/// Predicted factor size and work parsed from the auto solver's name after analyze().
+struct AutoChoice {
+  std::string backend;
+  double nnz = 0, flops = 0;
+};
+AutoChoice parseAuto(const std::string& name) {
+  AutoChoice c;
+  char backend[64] = {0};
+  EXPECT_EQ(std::sscanf(name.c_str(), "auto: %63[^,], predicted nnz(L) %lf, %lf flops", backend,
+                        &c.nnz, &c.flops),
+            3)
+      << name;
+  c.backend = backend;
+  return c;
+}
+
+TEST(Solvers_Auto, PredictsTheFactorExactly) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(5);
+  const BlockSystem sys(300, 3, rng);
+  auto solver = registry.create("auto");
+  EXPECT_EQ(solver->name(), "auto");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  const AutoChoice c = parseAuto(solver->name());
+  EXPECT_EQ(c.backend, "eigen-ldlt:amd");  // a small system
+  EXPECT_EQ(solver->ordering(), Ordering::kAmd);
+  const auto values = sys.values(sys.randomSpd(rng));
+  ASSERT_TRUE(solver->factorize(values.data()).ok());
+  // Eigen's L of LDL^T leaves out the unit diagonal.
+  EXPECT_EQ(static_cast<double>(solver->factorNonZeros() + sys.n()), c.nnz);
+  if (solvers::haveSuiteSparse()) {
+    auto cholmod = registry.create("cholmod-simplicial:amd");
+    ASSERT_TRUE(cholmod->analyze(sys.structure()).ok());
+    ASSERT_TRUE(cholmod->factorize(values.data()).ok());
+    EXPECT_EQ(static_cast<double>(cholmod->factorNonZeros()), c.nnz);
+  }
+}
+
+TEST(Solvers_Auto, LargeGridGetsNestedDissectionAndSupernodes) {
+  if (!solvers::haveSuiteSparse()) GTEST_SKIP() << "built without SuiteSparse (no METIS)";
+  // A 2D grid of 3x3 blocks (a pose graph revisiting a city): AMD fills it badly.
+  const int side = 130, bs = 3, nb = side * side, n = nb * bs;
+  auto id = [&](int x, int y) { return y * side + x; };
+  std::vector<int> block_starts, col_ptr{0}, row_idx;
+  std::vector<double> values;
+  for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
+  for (int cb = 0; cb < nb; ++cb) {
+    const int x = cb % side, y = cb / side;
+    std::vector<int> rows;  // row blocks <= cb
+    if (y > 0) rows.push_back(id(x, y - 1));
+    if (x > 0) rows.push_back(id(x - 1, y));
+    rows.push_back(cb);
+    for (int k = 0; k < bs; ++k) {
+      for (int rb : rows) {
+        for (int r = 0; r < bs; ++r) {
+          row_idx.push_back(rb * bs + r);
+          values.push_back(rb == cb ? (r == k ? 5.0 : 0.1) : (r == k ? -1.0 : 0.0));
+        }
+      }
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+  }
+  SparseStructure s;
+  s.n = n;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = block_starts.data();
+  s.num_blocks = nb;
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  auto solver = registry.create("auto");
+  ASSERT_TRUE(solver->analyze(s).ok());
+  const AutoChoice c = parseAuto(solver->name());
+  EXPECT_GT(c.flops, 2e8);  // large enough to try METIS
+  EXPECT_NE(c.backend.find(":metis"), std::string::npos) << solver->name();
+  ASSERT_TRUE(solver->factorize(values.data()).ok());
+  Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(n, -1.0, 1.0), x(n);
+  ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+  Eigen::VectorXd hx = Eigen::VectorXd::Zero(n);  // H x from the upper triangle
+  for (int col = 0; col < n; ++col) {
+    for (int k = col_ptr[col]; k < col_ptr[col + 1]; ++k) {
+      const int r = row_idx[k];
+      if (r > col) continue;
+      hx[r] += values[k] * x[col];
+      if (r != col) hx[col] += values[k] * x[r];
+    }
+  }
+  EXPECT_LT((hx - rhs).norm(), 1e-10 * rhs.norm());
 }
 
 }  // namespace

@@ -30,17 +30,50 @@ struct PoseNode {
   bool anchored = false;                              // fixed vertex or prior
 };
 
-/// Solves a symmetric positive definite sparse system; false on failure.
-bool solveSpd(const SpMat& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  Eigen::SimplicialLDLT<SpMat> ldlt(a);
-  if (ldlt.info() != Eigen::Success) return false;
-  x = ldlt.solve(b);
-  return ldlt.info() == Eigen::Success && x.allFinite();
+/// Solves the symmetric positive definite system `a` (both triangles, unknowns in blocks
+/// of `block` scalars) with `solver`, or with Eigen's simplicial LDL^T when it is null;
+/// false on failure.
+bool solveSpd(const SpMat& a, int block, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+              LinearSolver* solver) {
+  if (!solver) {
+    Eigen::SimplicialLDLT<SpMat> ldlt(a);
+    if (ldlt.info() != Eigen::Success) return false;
+    x = ldlt.solve(b);
+    return ldlt.info() == Eigen::Success && x.allFinite();
+  }
+  // The solver interface: upper triangle in CSC with full diagonal blocks.
+  const int n = static_cast<int>(a.cols());
+  std::vector<int> col_ptr(static_cast<std::size_t>(n) + 1, 0);
+  std::vector<int> row_idx;
+  std::vector<double> values;
+  row_idx.reserve(static_cast<std::size_t>(a.nonZeros()));
+  values.reserve(static_cast<std::size_t>(a.nonZeros()));
+  for (int c = 0; c < n; ++c) {
+    for (SpMat::InnerIterator it(a, c); it; ++it) {
+      if (it.row() / block > c / block) continue;
+      row_idx.push_back(static_cast<int>(it.row()));
+      values.push_back(it.value());
+    }
+    col_ptr[c + 1] = static_cast<int>(row_idx.size());
+  }
+  std::vector<int> block_starts;
+  for (int c = 0; c <= n; c += block) block_starts.push_back(c);
+  SparseStructure s;
+  s.n = n;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = block_starts.data();
+  s.num_blocks = n / block;
+  x.resize(n);
+  return solver->analyze(s).ok() && solver->factorize(values.data()).ok() &&
+         solver->solve(b.data(), x.data()).ok() && x.allFinite();
 }
 
 }  // namespace
 
-InitializationReport initializeGlobal(Graph& graph) {
+InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(graph, nullptr); }
+
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   const auto t0 = std::chrono::steady_clock::now();
   InitializationReport report;
 
@@ -178,7 +211,7 @@ InitializationReport initializeGlobal(Graph& graph) {
     SpMat a(nv, nv);
     a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd theta;
-    if (nv > 0 && !solveSpd(a, rhs, theta)) {
+    if (nv > 0 && !solveSpd(a, 1, rhs, theta, solver)) {
       report.message = "orientation system is singular: initial estimates kept";
       return report;
     }
@@ -248,7 +281,7 @@ InitializationReport initializeGlobal(Graph& graph) {
     SpMat a(2 * nt, 2 * nt);
     a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd x;
-    if (nt > 0 && !solveSpd(a, rhs, x)) {
+    if (nt > 0 && !solveSpd(a, 2, rhs, x, solver)) {
       report.message = "position system is singular: initial estimates kept";
       return report;
     }

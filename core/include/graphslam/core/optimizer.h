@@ -90,8 +90,10 @@ class Optimizer {
   struct Options {
     Algorithm algorithm = Algorithm::kGaussNewtonFallback;
     int max_iterations = 100;
-    /// Any registered name; "eigen-ldlt" is always built and the fastest on 2D graphs here.
-    std::string linear_solver = "eigen-ldlt";
+    /// Any registered name (optionally "name:ordering"). "auto" (solvers::registerSolvers)
+    /// orders by AMD or METIS and factorises with eigen-ldlt, or supernodal cholmod when the
+    /// predicted work is large.
+    std::string linear_solver = "auto";
     /// Converged when an accepted step lowers chi2 by less than this fraction.
     double function_tolerance = 1e-10;
     /// Converged when the Euclidean norm of the update is below this.

@@ -17,6 +17,11 @@ void registerSuiteSparseSolvers(SolverRegistry& registry);
 /// Whether this build has SuiteSparse (and with it the COLAMD and METIS orderings).
 [[nodiscard]] bool haveSuiteSparse();
 
+/// Registers "auto", the default: it predicts the factorisation's cost from the pattern
+/// of H, orders by AMD or METIS and factorises with eigen-ldlt, or with supernodal
+/// cholmod when the work is large (without SuiteSparse: eigen-ldlt with AMD).
+void registerAutoSolver(SolverRegistry& registry);
+
 /// Registers every solver this build has.
 void registerSolvers(SolverRegistry& registry);
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
 
 namespace graphslam::types_slam2d {
 
@@ -28,6 +29,12 @@ struct InitializationReport {
 /// Replaces the estimates of every free VertexSE2 reached by an EDGE_SE2 and of every
 /// free VertexXY observed by an EDGE_SE2_XY from such a pose; other vertices and edge
 /// types are left alone. Works on graphs whose estimates are all zero (edges-only files).
+/// The two systems are solved with Eigen's simplicial LDL^T (AMD ordering).
 InitializationReport initializeGlobal(Graph& graph);
+
+/// The same, solving both systems with `solver` (from a SolverRegistry; "auto" picks a
+/// nested-dissection ordering and a supernodal factorisation on large graphs, where the
+/// default takes minutes). A null solver means the default.
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver);
 
 }  // namespace graphslam::types_slam2d

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// The default solver: picks the ordering and the backend from the predicted cost of the
+// factorisation (symbolic analysis on the block graph).
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "common.h"
+#include "graphslam/solvers/register.h"
+#include "ordering.h"
+#include "symbolic.h"
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+#include "suitesparse.h"
+#endif
+
+namespace graphslam::solvers {
+
+std::unique_ptr<detail::OrderedSolver> makeEigenLdlt();
+
+namespace {
+
+/// Above this many predicted flops with AMD, METIS is tried as well (it costs about as
+/// much as one factorisation of a few 1e7 flops, and pays only on larger graphs).
+constexpr double kTryMetisFlops = 2e8;
+/// Above this many predicted flops, CHOLMOD's supernodal factorisation (dense BLAS on
+/// the fronts) beats the simplicial one.
+constexpr double kSupernodalFlops = 2e9;
+
+class AutoSolver final : public LinearSolver {
+ public:
+  std::string name() const override { return name_; }
+  Ordering ordering() const override {
+    return backend_ ? backend_->ordering() : Ordering::kDefault;
+  }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    std::vector<int> order = detail::orderColumns(Ordering::kAmd, s);
+    detail::SymbolicCost cost = detail::symbolicCost(s, order);
+    Ordering label = Ordering::kAmd;
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+    if (cost.flops > kTryMetisFlops) {
+      std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s);
+      const detail::SymbolicCost metis_cost = detail::symbolicCost(s, metis);
+      if (metis_cost.flops < cost.flops) {
+        order = std::move(metis);
+        cost = metis_cost;
+        label = Ordering::kMetis;
+      }
+    }
+    const bool supernodal = cost.flops > kSupernodalFlops;
+    backend_ = supernodal ? makeCholmodSolver(true, label) : makeEigenLdlt();
+    const char* backend = supernodal ? "cholmod" : "eigen-ldlt";
+#else
+    backend_ = makeEigenLdlt();
+    const char* backend = "eigen-ldlt";
+#endif
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend,
+                  toString(label), cost.factor_nonzeros, cost.flops);
+    name_ = buf;
+    return backend_->analyzeOrdered(s, std::move(order), label);
+  }
+
+  LinearSolverResult factorize(const double* values) override {
+    if (!backend_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    return backend_->factorize(values);
+  }
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    if (!backend_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    return backend_->solve(rhs, x);
+  }
+  std::size_t factorNonZeros() const override { return backend_ ? backend_->factorNonZeros() : 0; }
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    return backend_ && backend_->factorPattern(col_ptr, row_idx);
+  }
+
+ private:
+  std::string name_ = "auto";
+  std::unique_ptr<detail::OrderedSolver> backend_;
+};
+
+}  // namespace
+
+void registerAutoSolver(SolverRegistry& registry) {
+  registry.registerSolver("auto",
+                          "the default: orders H by AMD or METIS (whichever predicts fewer flops) "
+                          "and factorises with eigen-ldlt, or with supernodal cholmod when the "
+                          "predicted work is large",
+                          [] { return std::make_unique<AutoSolver>(); });
+}
+
+}  // namespace graphslam::solvers

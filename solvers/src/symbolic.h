@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::solvers: the cost of a Cholesky factorisation predicted from the
+// pattern of H and an ordering, before any numeric work.
+#pragma once
+
+#include <vector>
+
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam::solvers::detail {
+
+/// Predicted size and work of the Cholesky factor L of P H P^T.
+struct SymbolicCost {
+  double factor_nonzeros = 0.0;  ///< scalar non-zeros of L, diagonal included
+  double flops = 0.0;            ///< sum over columns of (column count)^2
+};
+
+/// Elimination tree and column counts on the block graph of H (blocks stay together in
+/// every ordering of this library), expanded to scalar columns. `order[k]` is the
+/// original column at position k and must keep each block's columns contiguous. Work
+/// and memory are O(non-zero blocks of L).
+[[nodiscard]] SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& order);
+
+}  // namespace graphslam::solvers::detail
