@@ -40,7 +40,7 @@ constexpr const char* kOptimizeUsage =
     "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm]\n"
     "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin "
     "LIB]...\n"
-    "                          [--stats FILE.csv] [--plot FILE.png] [--quiet]\n"
+    "                          [--stats FILE.csv] [--plot FILE.png] [--quiet] [--threads N]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
@@ -119,6 +119,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "plot", po::value(&plot),
       "draw the initial and final positions (and the ground truth) into this PNG")(
       "quiet,q", "print only the summary")(
+      "threads", po::value(&options.threads)->default_value(options.threads),
+      "threads evaluating errors and Jacobians (the result is the same for every count)")(
       "step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance),
       "converged when the Euclidean norm of the update is below this")(
       "function-tolerance",
@@ -144,6 +146,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  if (options.threads < 1 || options.threads > 256) {
+    throw UsageError("--threads must be between 1 and 256");
+  }
   options.damping = parseChoice<Optimizer::Options::Damping>(
       "damping", damping,
       {{"identity", Optimizer::Options::Damping::kIdentity},

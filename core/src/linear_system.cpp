@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "hessian_structure.h"
+#include "thread_pool.h"
 
 namespace graphslam {
 
@@ -21,9 +22,18 @@ struct JacobianBlockRef {
 };
 }  // namespace
 
+/// Edges per chunk below which a loop is not worth splitting across threads.
+constexpr std::size_t kMinEdgesPerThread = 512;
+
 struct LinearSystem::Impl {
   Graph* graph = nullptr;
   detail::HessianStructure hessian;
+  std::unique_ptr<detail::ThreadPool> pool = std::make_unique<detail::ThreadPool>(1);
+  std::vector<double> edge_chi2;
+  /// Active edges split by linearize(): those linearised in parallel and those that
+  /// perturb vertices in place (serial); empty until a serial pass has classified them.
+  bool classified = false;
+  std::vector<Edge*> parallel_edges, serial_edges;
   bool jacobian_built = false;
   int rows = 0;
   std::vector<int> j_col_ptr, j_row_idx, j_damping_pos;
@@ -114,11 +124,52 @@ bool LinearSystem::update(Graph& graph) {
   impl_->graph = &graph;
   impl_->hessian.build(graph);
   impl_->jacobian_built = false;
+  impl_->classified = false;
   return true;
 }
 
+void LinearSystem::setThreads(int threads) {
+  threads = std::max(threads, 1);
+  if (threads != impl_->pool->threads())
+    impl_->pool = std::make_unique<detail::ThreadPool>(threads);
+}
+
+int LinearSystem::threads() const { return impl_->pool->threads(); }
+
+double LinearSystem::computeChi2(Graph& graph) {
+  const auto& edges = graph.edges();
+  auto& chi2 = impl_->edge_chi2;
+  chi2.resize(edges.size());
+  impl_->pool->parallelFor(edges.size(), kMinEdgesPerThread,
+                           [&](std::size_t begin, std::size_t end) {
+                             for (std::size_t k = begin; k < end; ++k) {
+                               edges[k]->computeError();
+                               chi2[k] = edges[k]->chi2();
+                             }
+                           });
+  double sum = 0.0;
+  for (double c : chi2) sum += c;
+  return sum;
+}
+
 void LinearSystem::linearize() {
-  for (Edge* e : impl_->hessian.activeEdges()) e->linearizeOplus();
+  Impl& im = *impl_;
+  const auto& edges = im.hessian.activeEdges();
+  if (im.pool->threads() == 1 || !im.classified) {
+    // Serial, and learns which edges perturb vertices in place.
+    for (Edge* e : edges) e->linearizeOplus();
+    im.parallel_edges.clear();
+    im.serial_edges.clear();
+    for (Edge* e : edges)
+      (e->perturbsVerticesInPlace() ? im.serial_edges : im.parallel_edges).push_back(e);
+    im.classified = true;
+    return;
+  }
+  const auto& par = im.parallel_edges;
+  im.pool->parallelFor(par.size(), kMinEdgesPerThread, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) par[k]->linearizeOplus();
+  });
+  for (Edge* e : im.serial_edges) e->linearizeOplus();
 }
 
 void LinearSystem::assembleHessian() { impl_->hessian.assemble(h_values_, gradient_); }

@@ -149,14 +149,7 @@ struct Optimizer::Impl {
                          : solver->solve(rhs.data(), dx.data());
   }
 
-  double evalChi2(Graph& graph) {
-    double sum = 0.0;
-    for (const auto& e : graph.edges()) {
-      e->computeError();
-      sum += e->chi2();
-    }
-    return sum;
-  }
+  double evalChi2(Graph& graph) { return structure.computeChi2(graph); }
 
   void applyUpdate() {
     for (Vertex* v : structure.activeVertices()) {
@@ -225,6 +218,7 @@ Summary Optimizer::optimize() {
 
   TimeSplit setup;
   auto t0 = Clock::now();
+  im.structure.setThreads(options_.threads);
   if (im.structure.update(graph_)) im.analyzed = false;
   im.jacobian_form = im.solver->form() == SystemForm::kJacobian;
   summary.num_vertices = im.structure.activeVertices().size();

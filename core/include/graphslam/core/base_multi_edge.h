@@ -45,6 +45,7 @@ class BaseMultiEdge : public Edge {
   [[nodiscard]] const JacobianType& jacobian(std::size_t i) const { return jacobians_.at(i); }
 
   void linearizeOplus() override {
+    in_place_ = true;
     ensureJacobians();
     const ErrorVector saved = error_;
     for (std::size_t i = 0; i < numVertices(); ++i) {
@@ -58,6 +59,7 @@ class BaseMultiEdge : public Edge {
   }
 
   [[nodiscard]] double chi2() const override { return error_.dot(information_ * error_); }
+  [[nodiscard]] bool perturbsVerticesInPlace() const override { return in_place_; }
 
   void constructQuadraticForm(const QuadraticFormTarget& t) const override {
     const int n = static_cast<int>(numVertices());
@@ -124,6 +126,7 @@ class BaseMultiEdge : public Edge {
   InformationMatrix information_;
   ErrorVector error_;
   std::vector<JacobianType> jacobians_;
+  bool in_place_ = false;  // the default numeric linearizeOplus() ran
 };
 
 }  // namespace graphslam

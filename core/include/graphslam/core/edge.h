@@ -77,8 +77,14 @@ class Edge {
 
   /// Framework hook: compute and store the error at the current estimates.
   virtual void computeError() = 0;
-  /// Framework hook: compute and store the Jacobians at the current estimates.
+  /// Framework hook: compute and store the Jacobians at the current estimates. With
+  /// Optimizer::Options::threads > 1, computeError() and linearizeOplus() of different
+  /// edges run concurrently: they may read the vertices and must write only the edge.
   virtual void linearizeOplus() = 0;
+  /// Whether the last linearizeOplus() perturbed vertex estimates in place (the numeric
+  /// Jacobian of a type that overrides computeError() instead of providing evaluate() or
+  /// analytic Jacobians). Such edges are linearised serially, after the others.
+  [[nodiscard]] virtual bool perturbsVerticesInPlace() const { return false; }
   /// e^T Omega e of the stored error.
   [[nodiscard]] virtual double chi2() const = 0;
   /// Adds J_a^T Omega J_b into H and J_a^T Omega e into b (gradient), from the stored

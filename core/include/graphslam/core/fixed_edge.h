@@ -125,6 +125,7 @@ class FixedEdge : public Edge {
   }
 
   [[nodiscard]] double chi2() const override { return error_.dot(information_ * error_); }
+  [[nodiscard]] bool perturbsVerticesInPlace() const override { return g2o_style_; }
 
   void constructQuadraticForm(const QuadraticFormTarget& t) const override {
     detail::staticFor<kArity>([&](auto ic) {

@@ -30,8 +30,20 @@ class LinearSystem {
   /// call). Returns whether it rebuilt. The graph must outlive this object's use.
   bool update(Graph& graph);
 
-  /// Calls linearizeOplus() of every active edge. Errors must be current (computeError()
-  /// after the last change of the estimates, e.g. by Graph::chi2()).
+  /// Threads for computeChi2() and linearize() (>= 1, the caller's included; default 1).
+  /// The results are the same bits for every thread count: each edge writes only itself
+  /// and sums run serially in edge order.
+  void setThreads(int threads);
+  [[nodiscard]] int threads() const;
+
+  /// Calls computeError() of every edge of `graph` and returns the sum of their chi2 in
+  /// edge order (what Graph::chi2() returns), in parallel with setThreads().
+  double computeChi2(Graph& graph);
+
+  /// Calls linearizeOplus() of every active edge (in parallel with setThreads(), except
+  /// edges whose numeric Jacobian perturbs vertices in place: those run serially after
+  /// the others). Errors must be current (computeChi2() or Graph::chi2() after the last
+  /// change of the estimates).
   void linearize();
   /// Fills hessianValues() and gradient() from the stored errors and Jacobians.
   void assembleHessian();

@@ -115,6 +115,10 @@ class Optimizer {
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
     /// after optimize()).
     bool fix_gauge = true;
+    /// Threads for evaluating errors and Jacobians (the caller's included). The result
+    /// is bit-identical for every count; the linear solver's own threads are separate
+    /// (OpenBLAS / OpenMP environment variables).
+    int threads = 1;
     /// Called after every iteration (progress output is the caller's business).
     std::function<void(const IterationStats&)> callback;
   };
