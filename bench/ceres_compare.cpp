@@ -28,15 +28,17 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graphslam_ceres_compare FILE.g2o [--repeats N] [--threads N] [--max-iterations N]\n"
-    "                               [--check-rel TOL]\n"
+    "                               [--check-rel TOL] [--target CHI2]\n"
     "Optimises FILE (EDGE_SE2 and EDGE_SE2_XY edges only) with graphslam's default options and\n"
     "with Ceres (Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SuiteSparse, autodiff costs with\n"
     "graphslam's error definitions whitened by the upper Cholesky factor of the information),\n"
     "both from the same globally initialised estimates, --repeats times (default 1; times are\n"
     "medians). Ceres' result is written back into the graph and scored with Graph::chi2().\n"
-    "--threads sets Ceres' num_threads (default 1). With --check-rel, exits 1 when the two\n"
+    "--threads sets Ceres' num_threads and graphslam's threads (default 1). With --check-rel, "
+    "exits 1 when the two\n"
     "final chi2 differ by more than TOL relative. Prints key=value lines. Exit 77 when FILE\n"
-    "does not exist, 2 for a file with other edge types.";
+    "does not exist, 2 for a file with other edge types. With --target, also prints each one's\n"
+    "time to its first iterate with chi2 <= CHI2 (Ceres: cumulative time of that iteration).";
 
 /// Wraps to [-pi, pi) as types_slam2d::normalizeAngle, for doubles and Jets.
 template <typename T>
@@ -106,13 +108,30 @@ struct CeresRun {
   ceres::Solver::Summary summary;
   double build_s = 0.0;
   double solve_s = 0.0;
+  double target_s = -1.0;  ///< time into Solve() of the first iterate at or below the target
+};
+
+/// Records when Ceres' chi2 (2 x cost) first reaches the target.
+class TargetCallback final : public ceres::IterationCallback {
+ public:
+  TargetCallback(double target, double* seconds) : target_(target), seconds_(seconds) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (*seconds_ < 0 && 2.0 * s.cost <= target_) *seconds_ = s.cumulative_time_in_seconds;
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  double target_;
+  double* seconds_;
 };
 
 /// Builds the Ceres problem from the graph's current estimates, solves it and writes the
 /// result back into the graph.
-CeresRun solveWithCeres(Graph& graph, const TypeRegistry& types,
-                        const ceres::Solver::Options& options) {
+CeresRun solveWithCeres(Graph& graph, const TypeRegistry& types, ceres::Solver::Options options,
+                        double target) {
   CeresRun run;
+  TargetCallback callback(target, &run.target_s);
+  options.callbacks.push_back(&callback);
   const auto build_start = bench::Clock::now();
   std::map<VertexId, std::vector<double>> params;
   auto block = [&](const Vertex& v) -> double* {
@@ -159,6 +178,8 @@ int main(int argc, char** argv) {
   const int threads = args.integer("threads", 1, 1);
   const int max_iterations = args.integer("max-iterations", 100, 1);
   const double check_rel = args.number("check-rel", -1.0);
+  // Time to the solution: the first iterate whose chi2 is at or below --target.
+  const double target = args.number("target", -1.0);
   args.finish();
   args.skipIfAbsent();
   const bench::Registries registries;
@@ -178,29 +199,51 @@ int main(int argc, char** argv) {
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
     options.max_num_iterations = max_iterations;
-    options.function_tolerance = 1e-10;  // graphslam's default relative chi2 decrease
+    // graphslam's default relative chi2 decrease
+    options.function_tolerance = Optimizer::Options{}.function_tolerance;
     options.gradient_tolerance = 1e-10;
     options.parameter_tolerance = 1e-10;
     options.num_threads = threads;
     options.logging_type = ceres::SILENT;
     options.minimizer_progress_to_stdout = false;
 
-    std::vector<double> ours_s, ceres_s, ceres_build_s;
+    std::vector<double> ours_s, ceres_s, ceres_build_s, ours_target_s, ceres_target_s;
     Summary ours;
     double ours_chi2 = 0.0, ceres_chi2 = 0.0;
     CeresRun ceres_run;
     for (int r = 0; r < repeats; ++r) {
       bench::restoreEstimates(graph, initial);
-      Optimizer optimizer(graph, solvers, Optimizer::Options{});
+      Optimizer::Options ours_options;
+      ours_options.threads = threads;
+      double reached = initial_chi2 <= target ? 0.0 : -1.0;
       const auto start = bench::Clock::now();
+      ours_options.callback = [&](const IterationStats& st) {
+        if (reached < 0 && st.chi2 <= target) reached = bench::secondsSince(start);
+      };
+      Optimizer optimizer(graph, solvers, ours_options);
       ours = optimizer.optimize();
       ours_s.push_back(bench::secondsSince(start));
       ours_chi2 = graph.chi2();
+      ours_target_s.push_back(reached);
 
       bench::restoreEstimates(graph, initial);
-      ceres_run = solveWithCeres(graph, types, options);
+      ceres_run = solveWithCeres(graph, types, options, target);
       ceres_s.push_back(ceres_run.solve_s);
       ceres_build_s.push_back(ceres_run.build_s);
+      if (target >= 0.0 && ceres_run.target_s < 0) {
+        // Stopped by its tolerances above the target: the time to reach it is that of a
+        // run with tolerances that do not stop it first (the iterates are the same).
+        // (Re-solves from the start, then repeats the timed run so `graph` holds its result.)
+        ceres::Solver::Options tight = options;
+        tight.function_tolerance = tight.gradient_tolerance = tight.parameter_tolerance = 1e-15;
+        bench::restoreEstimates(graph, initial);
+        const CeresRun again = solveWithCeres(graph, types, tight, target);
+        ceres_target_s.push_back(again.target_s);
+        bench::restoreEstimates(graph, initial);
+        ceres_run = solveWithCeres(graph, types, options, target);
+      } else {
+        ceres_target_s.push_back(ceres_run.target_s);
+      }
       ceres_chi2 = graph.chi2();
     }
     const auto& cs = ceres_run.summary;
@@ -222,6 +265,14 @@ int main(int argc, char** argv) {
     const double rel = std::abs(ceres_chi2 - ours_chi2) / std::max(std::abs(ours_chi2), 1e-300);
     std::printf("compare chi2_rel_diff=%.3e speed_ratio=%.4g\n", rel,
                 bench::median(ceres_s) / bench::median(ours_s));
+    if (target >= 0.0) {
+      // -1: the target was not reached. A run reaches it in every repeat or in none (the
+      // iterates are deterministic), so the median is of like values.
+      const double ours_t = bench::median(ours_target_s);
+      const double ceres_t = bench::median(ceres_target_s);
+      std::printf("target chi2=%.17g graphslam_s=%.6g ceres_s=%.6g speed_ratio=%.4g\n", target,
+                  ours_t, ceres_t, ours_t > 0 && ceres_t > 0 ? ceres_t / ours_t : -1.0);
+    }
     if (check_rel >= 0.0 && !(rel <= check_rel)) {
       std::fprintf(stderr, "final chi2 differ: graphslam %.17g, Ceres %.17g (relative %.3e > %g)\n",
                    ours_chi2, ceres_chi2, rel, check_rel);
