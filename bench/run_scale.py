@@ -32,14 +32,15 @@ def grab(pattern, text, cast=float, default=None):
     return cast(m.group(1)) if m else default
 
 
-def solve_one(tool, n, seed, threads, env, work):
+def solve_one(tool, limit_bin, limit_max, n, seed, threads, env, work):
     graph, truth, out = (os.path.join(work, f"{k}{n}.g2o") for k in ("m", "gt", "o"))
     code, _, err, _, _ = run([tool, "simulate", "-o", graph, "--truth", truth, "--poses", str(n),
                               "--seed", str(seed)], env)
     if code:
         raise RuntimeError(f"simulate {n}: {err}")
+    stats = os.path.join(work, f"stats{n}.csv")
     code, text, err, wall, rss = run([tool, "optimize", graph, "-q", "--threads", str(threads),
-                                      "-o", out], env)
+                                      "-o", out, "--stats", stats], env)
     row = {"n": n, "exit": code, "wall": wall, "rss": rss, "error": err.strip()[-300:]}
     row["edges"] = grab(r"^graph: \d+ vertices, (\d+) edges", text, int)
     row["init"] = grab(r"^initialisation: .* in ([0-9.e+-]+) s", text)
@@ -57,7 +58,21 @@ def solve_one(tool, n, seed, threads, env, work):
     if code == 0:
         _, ape, _, _, _ = run([tool, "eval", "ape", truth, out], env)
         row["ape"] = grab(r"^\s+rmse\s+(\S+)", ape)
-    for path in (graph, truth, out):
+        # Per iteration (without the one-off set-up: structure, ordering, analysis).
+        with open(stats) as f:
+            header = f.readline().strip().split(",")
+            its = [dict(zip(header, line.strip().split(","))) for line in f if line.strip()]
+        row["per_iter"] = sum(float(r[k]) for r in its for k in (
+            "time_linearize", "time_build", "time_factorize", "time_solve")) / max(len(its), 1)
+        row["fact_per_iter"] = sum(float(r["time_factorize"]) for r in its) / max(len(its), 1)
+        if n <= limit_max and os.access(limit_bin, os.X_OK):
+            lcode, lout, lerr, _, _ = run([limit_bin, graph, "--solvers", "auto",
+                                           "--repeats", "3"], env)
+            if lcode == 0:
+                row["limit"] = grab(r"^limit .*factorize_s=(\S+)", lout)
+            else:
+                row["limit_error"] = lerr.strip()[-200:]
+    for path in (graph, truth, out, stats):
         if os.path.exists(path):
             os.remove(path)
     return row
@@ -74,14 +89,19 @@ def main():
     ap.add_argument("--seed", type=int, default=42)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--doc", default=os.path.join(REPO, "docs", "BENCHMARKS.md"))
+    ap.add_argument("--limit-max", type=int, default=100000,
+                    help="run graphslam_factor_limit (the bare CHOLMOD factorisation) up to "
+                         "this many poses (its simplicial variant is slow on larger graphs)")
     args = ap.parse_args()
     tool = os.path.join(args.build, "apps", "graphslam")
+    limit_bin = os.path.join(args.build, "bench", "graphslam_factor_limit")
     env = dict(os.environ, OMP_NUM_THREADS=str(args.threads),
                OPENBLAS_NUM_THREADS=str(args.threads))
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for n in (int(s) for s in args.sizes.split(",")):
-            row = solve_one(tool, n, args.seed, args.threads, env, work)
+            row = solve_one(tool, limit_bin, args.limit_max, n, args.seed, args.threads, env,
+                            work)
             print(row, flush=True)
             rows.append(row)
 
@@ -97,14 +117,22 @@ def main():
          "solver), one process: *wall* and *peak* are that process (loading, initialisation, "
          "optimisation, writing); *APE* is `graphslam eval ape` of the result against the "
          "ground truth (translation, unaligned, rmse).", "",
+         "*Iteration s* is linearise + assemble + factorise + solve per iteration (from "
+         "`--stats`, without the one-off set-up); *factorisation s* the factorisation per "
+         "iteration; *limit s* one bare `cholmod_factorize` of H at the optimum with the same "
+         "ordering (`graphslam_factor_limit --solvers auto`, the faster of supernodal and "
+         "simplicial; run up to --limit-max poses).", "",
          "| poses | edges | unknowns | solver | nnz(L) | iterations | chi2 initial -> final "
-         "| init s | optimize s | factorize s | build s | wall s | peak MiB | APE rmse m | status |",
-         "|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---|"]
+         "| init s | optimize s | iteration s | factorisation s | limit s | iteration / limit "
+         "| wall s | peak MiB | APE rmse m | status |",
+         "|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in rows:
         L.append(f"| {r['n']} | {r['edges']} | {r['unknowns']} | {r['solver']} | {r['nnz_l']} | "
                  f"{r['iterations']} | {fmt(r['chi2_0'], '.10g')} -> {fmt(r['chi2'], '.10g')} | "
-                 f"{fmt(r['init'])} | {fmt(r.get('opt'))} | {fmt(r.get('fact'))} | "
-                 f"{fmt(r.get('build'))} | {fmt(r['wall'])} | {fmt(r['rss'], '.0f')} | "
+                 f"{fmt(r['init'])} | {fmt(r.get('opt'))} | {fmt(r.get('per_iter'))} | "
+                 f"{fmt(r.get('fact_per_iter'))} | {fmt(r.get('limit'))} | "
+                 f"{fmt(r['per_iter'] / r['limit'] if r.get('limit') else None)} | "
+                 f"{fmt(r['wall'])} | {fmt(r['rss'], '.0f')} | "
                  f"{fmt(r.get('ape'), '.4g')} | {r['status'] if r['exit'] == 0 else 'exit %d: %s' % (r['exit'], r['error'])} |")
     L += ["", *machine_notes(args.threads), MARK_END]
     section = "\n".join(L) + "\n"

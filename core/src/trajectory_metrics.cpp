@@ -162,15 +162,35 @@ MatchingIndices matchingTimeIndices(const std::vector<double>& stamps_1,
                                     double offset_2) {
   MatchingIndices matches;
   if (stamps_2.empty()) return matches;
+  // Sorted stamps (every real trajectory): the nearest is next to the insertion point,
+  // found in O(log n); otherwise a full scan. Both return numpy argmin's first minimum.
+  const bool sorted = std::is_sorted(stamps_2.begin(), stamps_2.end());
   for (std::size_t i = 0; i < stamps_1.size(); ++i) {
     std::size_t best = 0;
     double best_diff = std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < stamps_2.size(); ++j) {
+    auto consider = [&](std::size_t j) {
       const double diff = std::abs((stamps_2[j] + offset_2) - stamps_1[i]);
-      if (diff < best_diff) {  // first minimum, like numpy argmin
+      if (diff < best_diff || (diff == best_diff && j < best)) {
         best_diff = diff;
         best = j;
       }
+    };
+    if (sorted) {
+      const double key = stamps_1[i] - offset_2;
+      const auto it = std::lower_bound(stamps_2.begin(), stamps_2.end(), key);
+      const auto j = static_cast<std::size_t>(it - stamps_2.begin());
+      if (j < stamps_2.size()) {
+        // First of a run of equal stamps: argmin's first minimum among equal values.
+        consider(static_cast<std::size_t>(
+            std::lower_bound(stamps_2.begin(), stamps_2.end(), stamps_2[j]) - stamps_2.begin()));
+      }
+      if (j > 0) {
+        consider(static_cast<std::size_t>(
+            std::lower_bound(stamps_2.begin(), stamps_2.end(), stamps_2[j - 1]) -
+            stamps_2.begin()));
+      }
+    } else {
+      for (std::size_t j = 0; j < stamps_2.size(); ++j) consider(j);
     }
     if (best_diff <= max_diff) {
       matches.first.push_back(i);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common.h"
+#include "graphslam/solvers/ordering.h"
 #include "graphslam/solvers/register.h"
 #include "ordering.h"
 #include "symbolic.h"
@@ -19,9 +20,6 @@ std::unique_ptr<detail::OrderedSolver> makeEigenLdlt();
 
 namespace {
 
-/// Above this many predicted flops with AMD, METIS is tried as well (it costs about as
-/// much as one factorisation of a few 1e7 flops, and pays only on larger graphs).
-constexpr double kTryMetisFlops = 2e8;
 /// Above this many predicted flops, CHOLMOD's supernodal factorisation (dense BLAS on
 /// the fronts) beats the simplicial one.
 constexpr double kSupernodalFlops = 2e9;
@@ -34,19 +32,10 @@ class AutoSolver final : public LinearSolver {
   }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
-    std::vector<int> order = detail::orderColumns(Ordering::kAmd, s);
-    detail::SymbolicCost cost = detail::symbolicCost(s, order);
-    Ordering label = Ordering::kAmd;
+    ChosenOrdering chosen = chooseOrdering(s);
+    const CholeskyPrediction& cost = chosen.prediction;
+    const Ordering label = chosen.ordering;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    if (cost.flops > kTryMetisFlops) {
-      std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s);
-      const detail::SymbolicCost metis_cost = detail::symbolicCost(s, metis);
-      if (metis_cost.flops < cost.flops) {
-        order = std::move(metis);
-        cost = metis_cost;
-        label = Ordering::kMetis;
-      }
-    }
     const bool supernodal = cost.flops > kSupernodalFlops;
     backend_ = supernodal ? makeCholmodSolver(true, label) : makeEigenLdlt();
     const char* backend = supernodal ? "cholmod" : "eigen-ldlt";
@@ -58,7 +47,7 @@ class AutoSolver final : public LinearSolver {
     std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend,
                   toString(label), cost.factor_nonzeros, cost.flops);
     name_ = buf;
-    return backend_->analyzeOrdered(s, std::move(order), label);
+    return backend_->analyzeOrdered(s, std::move(chosen.perm), label);
   }
 
   LinearSolverResult factorize(const double* values) override {
@@ -80,6 +69,34 @@ class AutoSolver final : public LinearSolver {
 };
 
 }  // namespace
+
+std::vector<int> fillReducingOrdering(Ordering ordering, const SparseStructure& s) {
+  return detail::orderColumns(ordering, s);
+}
+
+CholeskyPrediction predictCholesky(const SparseStructure& s, const std::vector<int>& perm) {
+  const detail::SymbolicCost c = detail::symbolicCost(s, perm);
+  return {c.factor_nonzeros, c.flops};
+}
+
+ChosenOrdering chooseOrdering(const SparseStructure& s) {
+  // Above this many predicted flops with AMD, METIS is tried as well (it costs about as
+  // much as one factorisation of a few 1e7 flops and pays only on larger graphs).
+  constexpr double kTryMetisFlops = 2e8;
+  ChosenOrdering chosen;
+  chosen.perm = detail::orderColumns(Ordering::kAmd, s);
+  chosen.prediction = predictCholesky(s, chosen.perm);
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+  if (chosen.prediction.flops > kTryMetisFlops) {
+    std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s);
+    const CholeskyPrediction metis_cost = predictCholesky(s, metis);
+    if (metis_cost.flops < chosen.prediction.flops) {
+      chosen = {Ordering::kMetis, std::move(metis), metis_cost};
+    }
+  }
+#endif
+  return chosen;
+}
 
 void registerAutoSolver(SolverRegistry& registry) {
   registry.registerSolver("auto",

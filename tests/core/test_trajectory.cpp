@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -361,6 +363,37 @@ TEST(Core_Trajectory, AssociationFollowsEvo) {
   const MatchingIndices m = matchingTimeIndices({0.0, 0.5, 1.0}, {0.0, 1.0}, 0.5);
   EXPECT_EQ(m.first, (std::vector<std::size_t>{0, 1, 2}));
   EXPECT_EQ(m.second, (std::vector<std::size_t>{0, 0, 1}));  // first minimum on ties
+}
+
+TEST(Core_Trajectory, SortedMatchingEqualsTheFullScan) {
+  // Sorted stamps take a binary search; it must pick what numpy's argmin picks (the first
+  // minimum), ties and repeated stamps included.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> tick(0, 40);
+  for (int round = 0; round < 20; ++round) {
+    std::vector<double> s1, s2;
+    for (int i = 0; i < 60; ++i) s1.push_back(tick(rng) * 0.25);
+    for (int i = 0; i < 30; ++i) s2.push_back(tick(rng) * 0.5);
+    std::sort(s2.begin(), s2.end());
+    const double offset = round % 2 ? 0.25 : 0.0;
+    const MatchingIndices fast = matchingTimeIndices(s1, s2, 0.3, offset);
+    MatchingIndices expected;
+    for (std::size_t i = 0; i < s1.size(); ++i) {
+      std::size_t best = 0;
+      for (std::size_t j = 1; j < s2.size(); ++j) {
+        if (std::abs(s2[j] + offset - s1[i]) < std::abs(s2[best] + offset - s1[i])) best = j;
+      }
+      if (std::abs(s2[best] + offset - s1[i]) <= 0.3) {
+        expected.first.push_back(i);
+        expected.second.push_back(best);
+      }
+    }
+    EXPECT_EQ(fast.first, expected.first) << "round " << round;
+    EXPECT_EQ(fast.second, expected.second) << "round " << round;
+  }
+  // Unsorted stamps: the full scan.
+  const MatchingIndices m = matchingTimeIndices({1.0, 3.0}, {3.1, 0.9, 1.1}, 0.5);
+  EXPECT_EQ(m.second, (std::vector<std::size_t>{1, 0}));
 }
 
 TEST(Core_Trajectory, RpeKnownCase) {
