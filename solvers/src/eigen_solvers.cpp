@@ -427,6 +427,8 @@ class PcgSolver final : public LinearSolver {
 
 }  // namespace
 
+std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
+
 std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
   return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", Ordering::kAmd);
 }
@@ -443,6 +445,12 @@ void registerEigenSolvers(SolverRegistry& registry) {
       SystemForm::kNormalEquations, orderings, [](const LinearSolverOptions& o) {
         return std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt", o.ordering);
       });
+  registry.registerSolver(
+      "block-llt",
+      "block up-looking Cholesky LL^T on fixed-size 2x2 or 3x3 blocks (vertices of dimension "
+      "at most 3; smaller ones padded)",
+      SystemForm::kNormalEquations, orderings,
+      [](const LinearSolverOptions& o) { return makeBlockCholesky(o.ordering); });
   registry.registerSolver(
       "eigen-qr", "Eigen SparseQR on the whitened Jacobian J", SystemForm::kJacobian, orderings,
       [](const LinearSolverOptions& o) { return std::make_unique<EigenQrSolver>(o.ordering); });

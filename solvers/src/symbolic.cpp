@@ -25,25 +25,10 @@ SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& orde
     return s.block_starts[b + 1] - s.block_starts[b];
   };
 
-  // Elimination tree (Liu's algorithm with path compression), in positions.
-  std::vector<int> parent(static_cast<std::size_t>(nb), -1);
-  std::vector<int> ancestor(static_cast<std::size_t>(nb), -1);
-  for (int k = 0; k < nb; ++k) {
+  const std::vector<int> parent = eliminationTree(nb, [&](int k, auto&& visit) {
     const int b = old_of[k];
-    for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) {
-      int r = new_of[g.idx[p]];
-      if (r >= k) continue;
-      while (ancestor[r] >= 0 && ancestor[r] != k) {
-        const int next = ancestor[r];
-        ancestor[r] = k;
-        r = next;
-      }
-      if (ancestor[r] < 0) {
-        ancestor[r] = k;
-        parent[r] = k;
-      }
-    }
-  }
+    for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) visit(new_of[g.idx[p]]);
+  });
 
   // Row subtrees: block row k of L holds every block on the tree paths from the
   // neighbours i < k of k up to k; each visit adds k's rows to column i's count.

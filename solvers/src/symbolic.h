@@ -9,6 +9,30 @@
 
 namespace graphslam::solvers::detail {
 
+/// Elimination tree of a symmetric pattern on positions 0..n-1 (Liu's algorithm with path
+/// compression): parent[i], -1 for a root. `neighbours(k, visit)` calls visit(i) for every
+/// neighbour i of k (any order; those >= k are ignored).
+template <typename Neighbours>
+std::vector<int> eliminationTree(int n, Neighbours&& neighbours) {
+  std::vector<int> parent(static_cast<std::size_t>(n), -1);
+  std::vector<int> ancestor(static_cast<std::size_t>(n), -1);
+  for (int k = 0; k < n; ++k) {
+    neighbours(k, [&](int r) {
+      if (r >= k) return;
+      while (ancestor[r] >= 0 && ancestor[r] != k) {
+        const int next = ancestor[r];
+        ancestor[r] = k;
+        r = next;
+      }
+      if (ancestor[r] < 0) {
+        ancestor[r] = k;
+        parent[r] = k;
+      }
+    });
+  }
+  return parent;
+}
+
 /// Predicted size and work of the Cholesky factor L of P H P^T.
 struct SymbolicCost {
   double factor_nonzeros = 0.0;  ///< scalar non-zeros of L, diagonal included

@@ -346,12 +346,16 @@ TEST(Solvers_Auto, PredictsTheFactorExactly) {
   EXPECT_EQ(solver->name(), "auto");
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
   const AutoChoice c = parseAuto(solver->name());
-  EXPECT_EQ(c.backend, "eigen-ldlt:amd");  // a small system
+  EXPECT_EQ(c.backend, "block-llt:amd");  // a small system of 3x3 blocks
   EXPECT_EQ(solver->ordering(), Ordering::kAmd);
   const auto values = sys.values(sys.randomSpd(rng));
   ASSERT_TRUE(solver->factorize(values.data()).ok());
+  EXPECT_EQ(static_cast<double>(solver->factorNonZeros()), c.nnz);
+  auto eigen = registry.create("eigen-ldlt:amd");
+  ASSERT_TRUE(eigen->analyze(sys.structure()).ok());
+  ASSERT_TRUE(eigen->factorize(values.data()).ok());
   // Eigen's L of LDL^T leaves out the unit diagonal.
-  EXPECT_EQ(static_cast<double>(solver->factorNonZeros() + sys.n()), c.nnz);
+  EXPECT_EQ(static_cast<double>(eigen->factorNonZeros() + sys.n()), c.nnz);
   if (solvers::haveSuiteSparse()) {
     auto cholmod = registry.create("cholmod-simplicial:amd");
     ASSERT_TRUE(cholmod->analyze(sys.structure()).ok());
@@ -410,6 +414,80 @@ TEST(Solvers_Auto, LargeGridGetsNestedDissectionAndSupernodes) {
     }
   }
   EXPECT_LT((hx - rhs).norm(), 1e-10 * rhs.norm());
+}
+
+TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
+  // Poses (3) and landmarks (2) mixed, as in landmark SLAM: block-llt pads the 2s to 3.
+  std::mt19937 rng(9);
+  const std::vector<int> dims = {3, 2, 3, 3, 2, 2, 3, 2, 3, 3, 2, 3, 1};
+  const int nb = static_cast<int>(dims.size());
+  std::vector<int> starts{0};
+  for (int d : dims) starts.push_back(starts.back() + d);
+  const int n = starts.back();
+  std::set<std::pair<int, int>> blocks;  // (row block <= col block)
+  std::uniform_int_distribution<int> pick(0, nb - 1);
+  for (int b = 0; b < nb; ++b) blocks.insert({b, b});
+  for (int b = 0; b + 1 < nb; ++b) blocks.insert({b, b + 1});
+  for (int k = 0; k < 2 * nb; ++k) {
+    const int a = pick(rng), c = pick(rng);
+    blocks.insert({std::min(a, c), std::max(a, c)});
+  }
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
+  for (const auto& [rb, cb] : blocks) {
+    for (int r = starts[rb]; r < starts[rb + 1]; ++r) {
+      for (int c = starts[cb]; c < starts[cb + 1]; ++c) {
+        const double x = u(rng);
+        m(r, c) += x;
+        if (rb != cb) m(c, r) += x;
+      }
+    }
+  }
+  m = (m + m.transpose()).eval() * 0.5;
+  for (int i = 0; i < n; ++i) m(i, i) = m.row(i).cwiseAbs().sum() + 1.0;
+  std::vector<int> col_ptr{0}, row_idx;
+  std::vector<double> values;
+  for (int cb = 0; cb < nb; ++cb) {
+    for (int c = starts[cb]; c < starts[cb + 1]; ++c) {
+      for (const auto& [rb, cb2] : blocks) {
+        if (cb2 != cb) continue;
+        for (int r = starts[rb]; r < starts[rb + 1]; ++r) {
+          row_idx.push_back(r);
+          values.push_back(m(r, c));
+        }
+      }
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+  }
+  SparseStructure s;
+  s.n = n;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = starts.data();
+  s.num_blocks = nb;
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  for (const char* spec : {"block-llt:amd", "block-llt:natural", "auto"}) {
+    auto solver = registry.create(spec);
+    ASSERT_TRUE(solver->analyze(s).ok()) << spec;
+    ASSERT_TRUE(solver->factorize(values.data()).ok()) << spec;
+    const Eigen::VectorXd rhs = Eigen::VectorXd::Random(n);
+    Eigen::VectorXd x(n);
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok()) << spec;
+    EXPECT_LT((x - m.ldlt().solve(rhs)).cwiseAbs().maxCoeff(), 1e-12) << spec;
+  }
+  // Not positive definite: the failing vertex's first column is named.
+  Eigen::MatrixXd bad = m;
+  bad.block(starts[4], starts[4], 2, 2) *= -1.0;
+  std::vector<double> bad_values;
+  for (int c = 0; c < n; ++c) {
+    for (int k = col_ptr[c]; k < col_ptr[c + 1]; ++k) bad_values.push_back(bad(row_idx[k], c));
+  }
+  auto solver = registry.create("block-llt:natural");
+  ASSERT_TRUE(solver->analyze(s).ok());
+  const LinearSolverResult r = solver->factorize(bad_values.data());
+  EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
+  EXPECT_EQ(r.column, starts[4]);
 }
 
 }  // namespace

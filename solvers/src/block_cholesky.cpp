@@ -1,0 +1,311 @@
+// SPDX-License-Identifier: MIT
+// Block up-looking Cholesky LL^T on fixed-size B x B blocks (B = the largest vertex
+// dimension, 2 or 3): the compiler unrolls every block operation, where a scalar
+// simplicial factorisation walks one entry at a time. Smaller vertices (landmarks of
+// dimension 2 among poses of dimension 3) are padded: the extra unknown gets a unit
+// diagonal and no coupling, so it solves to zero and leaves the others exact.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <memory>
+#include <string>
+
+#include "common.h"
+#include "ordering.h"
+#include "symbolic.h"
+
+namespace graphslam::solvers {
+
+namespace {
+
+/// L = blocks in column storage: column i holds its diagonal block, then one block per
+/// row k > i of its pattern, rows ascending. The row patterns are kept too (the up-looking
+/// order). Everything but the values is built once per structure.
+template <int B>
+class BlockCholesky final : public detail::OrderedSolver {
+ public:
+  using Block = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+
+  explicit BlockCholesky(Ordering ordering) : ordering_(ordering) {}
+
+  std::string name() const override { return "block-llt"; }
+  Ordering ordering() const override { return ordering_; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
+  }
+
+  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
+                                    Ordering label) override {
+    ordering_ = label;
+    nb_ = s.num_blocks;
+    n_ = s.n;
+    start_.assign(s.block_starts, s.block_starts + nb_ + 1);
+    uniform_ = true;
+    for (int b = 0; b < nb_; ++b) {
+      const int d = start_[b + 1] - start_[b];
+      if (d < 1 || d > B) {
+        return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                           "block-llt: a vertex of dimension " + std::to_string(d) +
+                                               " in blocks of " + std::to_string(B));
+      }
+      uniform_ = uniform_ && d == B;
+    }
+    const std::vector<int> block = detail::blockOfColumn(s.block_starts, nb_, s.n);
+    // Block permutation: old_[k] = original block at position k.
+    old_.clear();
+    std::vector<int> pos(static_cast<std::size_t>(nb_), -1);
+    for (int c : order) {
+      const int b = block[c];
+      if (pos[b] >= 0) continue;
+      pos[b] = static_cast<int>(old_.size());
+      old_.push_back(b);
+    }
+    // A's upper blocks per new column k: (new row i <= k, first value, stride, transposed).
+    a_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    a_.clear();
+    std::vector<std::vector<AEntry>> cols(static_cast<std::size_t>(nb_));
+    for (int c = 0; c < nb_; ++c) {
+      const int col0 = start_[c];
+      const int stride = s.col_ptr[col0 + 1] - s.col_ptr[col0];
+      for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
+        const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
+        const int first = p;
+        p += start_[r + 1] - start_[r];
+        const int pr = pos[r], pc = pos[c];
+        // In the new order the block is (min, max); transposed when the row moved below.
+        if (pr <= pc) {
+          cols[pc].push_back({pr, first, stride, false});
+        } else {
+          cols[pr].push_back({pc, first, stride, true});
+        }
+      }
+    }
+    for (int k = 0; k < nb_; ++k) {
+      auto& col = cols[k];
+      std::sort(col.begin(), col.end(),
+                [](const AEntry& x, const AEntry& y) { return x.row < y.row; });
+      a_.insert(a_.end(), col.begin(), col.end());
+      a_ptr_[k + 1] = static_cast<int>(a_.size());
+    }
+    // Elimination tree and the row patterns of L (row subtrees), rows ascending.
+    const std::vector<int> parent = detail::eliminationTree(nb_, [&](int k, auto&& visit) {
+      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) visit(a_[q].row);
+    });
+    std::vector<int> flag(static_cast<std::size_t>(nb_), -1);
+    row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    row_idx_.clear();
+    std::vector<int> count(static_cast<std::size_t>(nb_), 0);  // off-diagonal blocks per column
+    std::vector<int> row;
+    for (int k = 0; k < nb_; ++k) {
+      flag[k] = k;
+      row.clear();
+      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
+        for (int i = a_[q].row; i < k && flag[i] != k; i = parent[i]) {
+          flag[i] = k;
+          row.push_back(i);
+        }
+      }
+      std::sort(row.begin(), row.end());
+      for (int i : row) ++count[i];
+      row_idx_.insert(row_idx_.end(), row.begin(), row.end());
+      row_ptr_[k + 1] = static_cast<int>(row_idx_.size());
+    }
+    // Column storage: column i = diagonal block then count[i] blocks; entry of (k, i) in
+    // row order of k gets the next free slot of column i.
+    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    for (int i = 0; i < nb_; ++i) col_ptr_[i + 1] = col_ptr_[i] + 1 + count[i];
+    col_row_.assign(static_cast<std::size_t>(col_ptr_[nb_]), 0);
+    entry_.assign(row_idx_.size(), 0);
+    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
+    for (int i = 0; i < nb_; ++i) col_row_[next[i]++] = i;
+    for (int k = 0; k < nb_; ++k) {
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
+        const int i = row_idx_[q];
+        entry_[q] = next[i];
+        col_row_[next[i]++] = k;
+      }
+    }
+    values_.assign(static_cast<std::size_t>(col_ptr_[nb_]), Block::Zero());
+    work_.assign(static_cast<std::size_t>(nb_), Block::Zero());
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* h) override {
+    if (col_ptr_.empty())
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    for (int k = 0; k < nb_; ++k) {
+      // y = A(k, 0..k) into work_ (the diagonal block too).
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) work_[row_idx_[q]].setZero();
+      Block diag = Block::Zero();
+      const int dk = dim(old_[k]);
+      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
+        const AEntry& e = a_[q];
+        Block blk;
+        if (uniform_) {
+          blk = Eigen::Map<const Block, 0, Eigen::OuterStride<>>(h + e.first,
+                                                                 Eigen::OuterStride<>(e.stride));
+        } else {
+          // H's block (r, c) is d_r x d_c; padded with zeros (unit diagonal: below).
+          const int dr = e.transposed ? dk : dim(old_[e.row]);
+          const int dc = e.transposed ? dim(old_[e.row]) : dk;
+          blk.setZero();
+          blk.topLeftCorner(dr, dc) = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
+              h + e.first, dr, dc, Eigen::OuterStride<>(e.stride));
+        }
+        if (e.row == k) {
+          diag = blk.template selfadjointView<Eigen::Upper>();
+        } else if (e.transposed) {
+          work_[e.row] = blk;  // stored as (k, row) in H: already A(k, row)
+        } else {
+          work_[e.row] = blk.transpose();  // A(row, k) stored: A(k, row) is its transpose
+        }
+      }
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
+        const int i = row_idx_[q];
+        // L(k, i) = y_i L(i, i)^{-T}
+        Block lki = values_[col_ptr_[i]]
+                        .template triangularView<Eigen::Lower>()
+                        .solve(work_[i].transpose())
+                        .transpose();
+        values_[entry_[q]] = lki;
+        // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i)).
+        for (int e = col_ptr_[i] + 1; e < entry_[q]; ++e) {
+          work_[col_row_[e]].noalias() -= lki * values_[e].transpose();
+        }
+        diag.noalias() -= lki * lki.transpose();
+      }
+      for (int t = dk; t < B; ++t) diag(t, t) = 1.0;  // padding
+      Eigen::LLT<Block> llt(diag);
+      if (llt.info() != Eigen::Success) {
+        return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                           "non-positive pivot block", start_[old_[k]]);
+      }
+      values_[col_ptr_[k]] = llt.matrixL();
+    }
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    std::vector<Vec>& y = y_;
+    y.resize(static_cast<std::size_t>(nb_));
+    for (int k = 0; k < nb_; ++k) {
+      const int b = old_[k];
+      y[k].setZero();
+      y[k].head(dim(b)) = Eigen::Map<const Eigen::VectorXd>(rhs + start_[b], dim(b));
+    }
+    for (int i = 0; i < nb_; ++i) {  // L y = b, by columns
+      values_[col_ptr_[i]].template triangularView<Eigen::Lower>().solveInPlace(y[i]);
+      for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
+        y[col_row_[e]].noalias() -= values_[e] * y[i];
+      }
+    }
+    for (int i = nb_ - 1; i >= 0; --i) {  // L^T x = y
+      for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
+        y[i].noalias() -= values_[e].transpose() * y[col_row_[e]];
+      }
+      values_[col_ptr_[i]].template triangularView<Eigen::Lower>().transpose().solveInPlace(y[i]);
+    }
+    for (int k = 0; k < nb_; ++k) {
+      const int b = old_[k];
+      Eigen::Map<Eigen::VectorXd>(x + start_[b], dim(b)) = y[k].head(dim(b));
+    }
+    if (!detail::allFinite(x, n_)) return detail::notFinite();
+    return LinearSolverResult::success();
+  }
+
+  std::size_t factorNonZeros() const override {
+    // Lower triangle of the diagonal blocks plus the off-diagonal blocks, unpadded.
+    std::size_t nnz = 0;
+    for (int k = 0; k < nb_; ++k) {
+      const auto dk = static_cast<std::size_t>(dim(old_[k]));
+      nnz += dk * (dk + 1) / 2;
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
+        nnz += dk * static_cast<std::size_t>(dim(old_[row_idx_[q]]));
+      }
+    }
+    return nnz;
+  }
+
+ private:
+  int dim(int original_block) const { return start_[original_block + 1] - start_[original_block]; }
+
+  struct AEntry {
+    int row;
+    int first;  // H value of the block's (0, 0)
+    int stride;
+    bool transposed;
+  };
+
+  Ordering ordering_;
+  int nb_ = 0;
+  int n_ = 0;
+  bool uniform_ = true;
+  std::vector<int> start_;  // H's block starts (original blocks)
+  std::vector<int> old_;
+  std::vector<int> a_ptr_;
+  std::vector<AEntry> a_;
+  std::vector<int> row_ptr_, row_idx_, entry_;
+  std::vector<int> col_ptr_, col_row_;
+  std::vector<Block, Eigen::aligned_allocator<Block>> values_;
+  std::vector<Block, Eigen::aligned_allocator<Block>> work_;
+  std::vector<Vec> y_;
+};
+
+/// Picks the block size at analysis: every vertex must have dimension 2 or 3, all alike.
+class BlockCholeskyAny final : public detail::OrderedSolver {
+ public:
+  explicit BlockCholeskyAny(Ordering ordering) : ordering_(ordering) {}
+  std::string name() const override { return "block-llt"; }
+  Ordering ordering() const override { return ordering_; }
+
+  LinearSolverResult analyze(const SparseStructure& s) override {
+    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
+  }
+  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
+                                    Ordering label) override {
+    ordering_ = label;
+    impl_.reset();
+    int b = 0;
+    for (int k = 0; k < s.num_blocks; ++k)
+      b = std::max(b, s.block_starts[k + 1] - s.block_starts[k]);
+    if (b <= 2) impl_ = std::make_unique<BlockCholesky<2>>(label);
+    if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>(label);
+    if (!impl_) {
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "block-llt handles vertices of dimension at most 3 (use eigen-ldlt)");
+    }
+    return impl_->analyzeOrdered(s, std::move(order), label);
+  }
+  LinearSolverResult factorize(const double* values) override {
+    if (!impl_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    return impl_->factorize(values);
+  }
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    if (!impl_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    return impl_->solve(rhs, x);
+  }
+  std::size_t factorNonZeros() const override { return impl_ ? impl_->factorNonZeros() : 0; }
+
+ private:
+  Ordering ordering_;
+  std::unique_ptr<detail::OrderedSolver> impl_;
+};
+
+}  // namespace
+
+int maxBlockSize(const SparseStructure& s) {
+  int size = 0;
+  for (int b = 0; b < s.num_blocks; ++b) {
+    size = std::max(size, s.block_starts[b + 1] - s.block_starts[b]);
+  }
+  return size;
+}
+
+std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering) {
+  return std::make_unique<BlockCholeskyAny>(ordering);
+}
+
+}  // namespace graphslam::solvers
