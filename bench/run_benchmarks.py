@@ -344,7 +344,8 @@ def write_report(args, notes, results, skipped):
              "the whole `graphslam optimize` process (loading, global initialisation, "
              "optimisation; rusage). *iteration ms* = (linearise + build + factorise + solve) / "
              "iterations from `--stats`. *limit ms* = one bare `cholmod_factorize` of H at "
-             "the optimum with the block AMD permutation, the faster of supernodal and "
+             "the optimum with the default solver's ordering (block AMD on every file here), "
+             "the faster of supernodal and "
              "simplicial LL^T (each the median of 9): an iteration with a direct CHOLMOD "
              "factorisation cannot be faster than it. *fact./attempt* is the optimizer's "
              "factorisation time per attempt with the default solver, *cholmod fact.* the same "
@@ -439,7 +440,7 @@ def write_report(args, notes, results, skipped):
     L.append("## Settings")
     L.append("")
     L.append("- graphslam: `graphslam optimize FILE -q --stats CSV`, i.e. global initialisation, "
-             "Gauss-Newton with LM fallback, solver `auto` (eigen-ldlt with AMD on every file here), "
+             "Gauss-Newton with LM fallback, solver `auto` (block-llt with AMD on every file here), "
              "at most 100 iterations, function tolerance 1e-8, step tolerance 1e-12, gauge: "
              "lowest id fixed, `--threads` = --threads.")
     L.append("- Ceres (`bench/ceres_compare.cpp`): the same initialised estimates and the same "

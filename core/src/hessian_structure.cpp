@@ -23,20 +23,24 @@ void HessianStructure::build(Graph& graph) {
   fixed_snapshot_.clear();
   active_vertices_.clear();
   block_starts_.assign(1, 0);
-  std::unordered_map<const Vertex*, int> block_of;
   int col = 0;
   for (const auto& [id, v] : graph.vertices()) {
     fixed_snapshot_.push_back(static_cast<char>(v->fixed()));
     v->setHessianIndex(-1);
     if (v->fixed() || v->edges().empty()) continue;
     v->setHessianIndex(col);
-    block_of.emplace(v.get(), static_cast<int>(active_vertices_.size()));
     active_vertices_.push_back(v.get());
     col += v->dimension();
     block_starts_.push_back(col);
   }
   n_ = col;
   const int nb = static_cast<int>(active_vertices_.size());
+  // Block of a vertex, through the column index just assigned (no hashing).
+  std::vector<int> block_of_col(static_cast<std::size_t>(n_), -1);
+  for (int b = 0; b < nb; ++b) block_of_col[block_starts_[b]] = b;
+  auto block_of = [&](const Vertex* v) {
+    return v->hessianIndex() >= 0 ? block_of_col[v->hessianIndex()] : -1;
+  };
 
   // Block pattern: for every block column, the block rows (<= column) it holds.
   std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(nb));
@@ -45,10 +49,7 @@ void HessianStructure::build(Graph& graph) {
   std::vector<int> blocks;
   for (const auto& e : graph.edges()) {
     blocks.clear();
-    for (std::size_t s = 0; s < e->numVertices(); ++s) {
-      const Vertex* v = e->vertex(s);
-      blocks.push_back(v->hessianIndex() >= 0 ? block_of.at(v) : -1);
-    }
+    for (std::size_t s = 0; s < e->numVertices(); ++s) blocks.push_back(block_of(e->vertex(s)));
     if (std::all_of(blocks.begin(), blocks.end(), [](int b) { return b < 0; })) continue;
     active_edges_.push_back(e.get());
     for (std::size_t a = 0; a < blocks.size(); ++a) {
@@ -112,6 +113,7 @@ void HessianStructure::build(Graph& graph) {
 
   refs_.clear();
   b_offsets_.clear();
+  slot_blocks_.clear();
   edge_ref_start_.clear();
   edge_b_start_.clear();
   for (Edge* e : active_edges_) {
@@ -121,12 +123,13 @@ void HessianStructure::build(Graph& graph) {
     for (std::size_t a = 0; a < n; ++a) {
       const Vertex* va = e->vertex(a);
       b_offsets_.push_back(va->hessianIndex());
+      slot_blocks_.push_back(block_of(va));
       for (std::size_t b = a; b < n; ++b) {
         const Vertex* vb = e->vertex(b);
         if (va->hessianIndex() < 0 || vb->hessianIndex() < 0) {
           refs_.push_back(HessianBlockRef{});
         } else {
-          refs_.push_back(block_ref(block_of.at(va), block_of.at(vb)));
+          refs_.push_back(block_ref(block_of(va), block_of(vb)));
         }
       }
     }
@@ -183,18 +186,19 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
   // Components of free vertices touched by a unary edge or an edge to a fixed vertex are
   // determined; the others float.
   const auto& active = active_vertices_;
-  std::unordered_map<const Vertex*, int> index;
-  for (std::size_t i = 0; i < active.size(); ++i) index.emplace(active[i], static_cast<int>(i));
   UnionFind uf(active.size());
   std::vector<char> anchored(active.size(), 0);
   std::vector<int> slots;
-  for (Edge* e : active_edges_) {
+  for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+    const Edge* e = active_edges_[k];
     slots.clear();
+    // The blocks recorded at build (not hessianIndex(): another structure on the same
+    // graph may have set it since).
     for (std::size_t s = 0; s < e->numVertices(); ++s) {
-      // Not hessianIndex(): another structure on the same graph may have set it since.
-      if (const auto it = index.find(e->vertex(s)); it != index.end()) slots.push_back(it->second);
+      const int b = slot_blocks_[edge_b_start_[k] + s];
+      if (b >= 0) slots.push_back(b);
     }
-    for (std::size_t k = 1; k < slots.size(); ++k) uf.unite(slots[0], slots[k]);
+    for (std::size_t j = 1; j < slots.size(); ++j) uf.unite(slots[0], slots[j]);
     if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;
   }
   std::vector<char> root_anchored(active.size(), 0);
@@ -202,13 +206,15 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
     if (anchored[i]) root_anchored[uf.find(static_cast<int>(i))] = 1;
   }
   std::vector<std::vector<VertexId>> groups;
-  std::unordered_map<int, std::size_t> group_of_root;
+  std::vector<int> group_of_root(active.size(), -1);
   for (std::size_t i = 0; i < active.size(); ++i) {
     const int root = uf.find(static_cast<int>(i));
     if (root_anchored[root]) continue;
-    auto [it, inserted] = group_of_root.emplace(root, groups.size());
-    if (inserted) groups.emplace_back();
-    auto& group = groups[it->second];
+    if (group_of_root[root] < 0) {
+      group_of_root[root] = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    auto& group = groups[group_of_root[root]];
     if (group.size() < max_ids) group.push_back(active[i]->id());
   }
   return groups;

@@ -55,6 +55,7 @@ class HessianStructure {
   std::vector<std::size_t> edge_b_start_;
   std::vector<HessianBlockRef> refs_;
   std::vector<int> b_offsets_;
+  std::vector<int> slot_blocks_;  // per active edge and slot (at edge_b_start_): block or -1
 };
 
 /// Removes the gauge freedom for the lifetime of the object: if `enabled`, no vertex is

@@ -39,8 +39,10 @@ class AutoSolver final : public LinearSolver {
     ChosenOrdering chosen = chooseOrdering(s);
     const CholeskyPrediction& cost = chosen.prediction;
     const Ordering label = chosen.ordering;
-    // Fixed-size blocks pay when vertices have at most 3 dimensions (2D SLAM).
-    const bool blocks = maxBlockSize(s) <= 3;
+    // Fixed-size blocks pay for vertices of 2 or 3 dimensions (2D SLAM); scalar systems
+    // (1x1 blocks) would only be padded.
+    const int block_size = maxBlockSize(s);
+    const bool blocks = block_size == 2 || block_size == 3;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     const bool supernodal = cost.flops > (blocks ? kBlockSupernodalFlops : kSupernodalFlops);
 #else
@@ -116,7 +118,7 @@ ChosenOrdering chooseOrdering(const SparseStructure& s) {
 void registerAutoSolver(SolverRegistry& registry) {
   registry.registerSolver("auto",
                           "the default: orders H by AMD or METIS (whichever predicts fewer flops) "
-                          "and factorises with block-llt (vertices of dimension <= 3) or "
+                          "and factorises with block-llt (vertices of dimension 2-3) or "
                           "eigen-ldlt, or with supernodal cholmod when the predicted work is "
                           "large",
                           [] { return std::make_unique<AutoSolver>(); });

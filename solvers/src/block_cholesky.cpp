@@ -129,6 +129,7 @@ class BlockCholesky final : public detail::OrderedSolver {
     }
     values_.assign(static_cast<std::size_t>(col_ptr_[nb_]), Block::Zero());
     work_.assign(static_cast<std::size_t>(nb_), Block::Zero());
+    inverse_.assign(static_cast<std::size_t>(nb_), Block::Zero());
     return LinearSolverResult::success();
   }
 
@@ -164,11 +165,9 @@ class BlockCholesky final : public detail::OrderedSolver {
       }
       for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
         const int i = row_idx_[q];
-        // L(k, i) = y_i L(i, i)^{-T}
-        Block lki = values_[col_ptr_[i]]
-                        .template triangularView<Eigen::Lower>()
-                        .solve(work_[i].transpose())
-                        .transpose();
+        // L(k, i) = y_i L(i, i)^{-T}, with the inverse kept from column i's factorisation
+        // (a fixed-size product; Eigen's triangular solve takes its general path here).
+        const Block lki = work_[i] * inverse_[i].transpose();
         values_[entry_[q]] = lki;
         // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i)).
         for (int e = col_ptr_[i] + 1; e < entry_[q]; ++e) {
@@ -183,6 +182,8 @@ class BlockCholesky final : public detail::OrderedSolver {
                                            "non-positive pivot block", start_[old_[k]]);
       }
       values_[col_ptr_[k]] = llt.matrixL();
+      inverse_[k] =
+          values_[col_ptr_[k]].template triangularView<Eigen::Lower>().solve(Block::Identity());
     }
     return LinearSolverResult::success();
   }
@@ -196,7 +197,7 @@ class BlockCholesky final : public detail::OrderedSolver {
       y[k].head(dim(b)) = Eigen::Map<const Eigen::VectorXd>(rhs + start_[b], dim(b));
     }
     for (int i = 0; i < nb_; ++i) {  // L y = b, by columns
-      values_[col_ptr_[i]].template triangularView<Eigen::Lower>().solveInPlace(y[i]);
+      y[i] = inverse_[i] * y[i];
       for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
         y[col_row_[e]].noalias() -= values_[e] * y[i];
       }
@@ -205,7 +206,7 @@ class BlockCholesky final : public detail::OrderedSolver {
       for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
         y[i].noalias() -= values_[e].transpose() * y[col_row_[e]];
       }
-      values_[col_ptr_[i]].template triangularView<Eigen::Lower>().transpose().solveInPlace(y[i]);
+      y[i] = inverse_[i].transpose() * y[i];
     }
     for (int k = 0; k < nb_; ++k) {
       const int b = old_[k];
@@ -250,6 +251,7 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<int> col_ptr_, col_row_;
   std::vector<Block, Eigen::aligned_allocator<Block>> values_;
   std::vector<Block, Eigen::aligned_allocator<Block>> work_;
+  std::vector<Block, Eigen::aligned_allocator<Block>> inverse_;  // L(k, k)^{-1}
   std::vector<Vec> y_;
 };
 
