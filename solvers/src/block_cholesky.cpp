@@ -6,6 +6,7 @@
 // diagonal and no coupling, so it solves to zero and leaves the others exact.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <memory>
 #include <string>
@@ -182,8 +183,7 @@ class BlockCholesky final : public detail::OrderedSolver {
                                            "non-positive pivot block", start_[old_[k]]);
       }
       values_[col_ptr_[k]] = llt.matrixL();
-      inverse_[k] =
-          values_[col_ptr_[k]].template triangularView<Eigen::Lower>().solve(Block::Identity());
+      inverse_[k] = values_[col_ptr_[k]].inverse();  // closed form for fixed 2x2 / 3x3
     }
     return LinearSolverResult::success();
   }

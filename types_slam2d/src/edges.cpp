@@ -8,17 +8,6 @@
 
 namespace graphslam::types_slam2d {
 
-namespace {
-/// d(R(theta)^T)/d(theta).
-Eigen::Matrix2d dRotationTransposed(double theta) {
-  const double c = std::cos(theta);
-  const double s = std::sin(theta);
-  Eigen::Matrix2d d;
-  d << -s, c, -c, -s;
-  return d;
-}
-}  // namespace
-
 void EdgeSE2::linearizeOplus() {
   const SE2& xi = vertexXi<0>().estimate();
   const SE2& xj = vertexXi<1>().estimate();
@@ -30,7 +19,7 @@ void EdgeSE2::linearizeOplus() {
   ji.setZero();
   jj.setZero();
   ji.topLeftCorner<2, 2>() = -rzt * rit;
-  ji.block<2, 1>(0, 2) = rzt * dRotationTransposed(xi.angle()) * dt;
+  ji.block<2, 1>(0, 2) = rzt * xi.rotationTransposedDerivative() * dt;
   ji(2, 2) = -1.0;
   jj.topLeftCorner<2, 2>() = rzt * rit;
   jj(2, 2) = 1.0;
@@ -42,7 +31,7 @@ void EdgeSE2XY::linearizeOplus() {
   const Eigen::Matrix2d rt = x.rotation().transpose();
   auto& jx = jacobian<0>();
   jx.leftCols<2>() = -rt;
-  jx.col(2) = dRotationTransposed(x.angle()) * (l - x.translation());
+  jx.col(2) = x.rotationTransposedDerivative() * (l - x.translation());
   jacobian<1>() = rt;
 }
 

@@ -27,18 +27,30 @@ namespace graphslam::types_slam2d {
 }
 
 /// Rigid 2D transform a_T_b: maps points of frame b into frame a, p_a = R p_b + t.
-/// Stored as translation and angle (kept in [-pi, pi)).
+/// Stored as translation and angle (kept in [-pi, pi)), with the angle's cosine and sine
+/// computed once (edges ask for the rotation several times per iteration).
 class SE2 {
  public:
   SE2() = default;
-  SE2(double x, double y, double theta) : t_(x, y), theta_(normalizeAngle(theta)) {}
-  SE2(const Eigen::Vector2d& t, double theta) : t_(t), theta_(normalizeAngle(theta)) {}
+  SE2(double x, double y, double theta) : SE2(Eigen::Vector2d(x, y), theta) {}
+  SE2(const Eigen::Vector2d& t, double theta)
+      : t_(t), theta_(normalizeAngle(theta)), c_(std::cos(theta_)), s_(std::sin(theta_)) {}
   /// From (x, y, theta).
   static SE2 fromVector(const Eigen::Vector3d& v) { return SE2(v[0], v[1], v[2]); }
 
   [[nodiscard]] const Eigen::Vector2d& translation() const { return t_; }
   [[nodiscard]] double angle() const { return theta_; }
-  [[nodiscard]] Eigen::Matrix2d rotation() const { return rotation2(theta_); }
+  [[nodiscard]] Eigen::Matrix2d rotation() const {
+    Eigen::Matrix2d r;
+    r << c_, -s_, s_, c_;
+    return r;
+  }
+  /// d(R^T)/d(theta).
+  [[nodiscard]] Eigen::Matrix2d rotationTransposedDerivative() const {
+    Eigen::Matrix2d d;
+    d << -s_, c_, -c_, -s_;
+    return d;
+  }
   /// (x, y, theta): g2o's t2v.
   [[nodiscard]] Eigen::Vector3d toVector() const { return {t_.x(), t_.y(), theta_}; }
 
@@ -63,6 +75,8 @@ class SE2 {
  private:
   Eigen::Vector2d t_ = Eigen::Vector2d::Zero();
   double theta_ = 0.0;
+  double c_ = 1.0;
+  double s_ = 0.0;
 };
 
 }  // namespace graphslam::types_slam2d
