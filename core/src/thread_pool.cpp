@@ -42,14 +42,22 @@ void ThreadPool::parallelFor(std::size_t n, std::size_t min_chunk,
     n_ = n;
     chunks_ = chunks;
     pending_ = chunks - 1;
+    errors_.assign(static_cast<std::size_t>(chunks), nullptr);
     ++generation_;
   }
   start_.notify_all();
   const auto [begin, end] = chunk(n, chunks, 0);
-  fn(begin, end);
+  try {
+    fn(begin, end);
+  } catch (...) {
+    errors_[0] = std::current_exception();  // the workers never touch slot 0
+  }
   std::unique_lock<std::mutex> lock(mutex_);
   done_.wait(lock, [this] { return pending_ == 0; });
   job_ = nullptr;
+  for (const auto& e : errors_) {
+    if (e) std::rethrow_exception(e);
+  }
 }
 
 void ThreadPool::work(int index) {
@@ -63,8 +71,14 @@ void ThreadPool::work(int index) {
     const auto* job = job_;
     const auto [begin, end] = chunk(n_, chunks_, index);
     lock.unlock();
-    (*job)(begin, end);
+    std::exception_ptr error;
+    try {
+      (*job)(begin, end);
+    } catch (...) {
+      error = std::current_exception();
+    }
     lock.lock();
+    errors_[static_cast<std::size_t>(index)] = error;
     if (--pending_ == 0) done_.notify_one();
   }
 }

@@ -7,6 +7,7 @@
 
 #include <condition_variable>
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -26,7 +27,7 @@ class ThreadPool {
 
   /// Calls fn(begin, end) on contiguous chunks covering [0, n), one per thread, and
   /// returns when all are done. Runs inline when n < min_chunk * 2 or with one thread.
-  /// fn must not throw.
+  /// If chunks throw, the first exception (by chunk) is rethrown after all have finished.
   void parallelFor(std::size_t n, std::size_t min_chunk,
                    const std::function<void(std::size_t, std::size_t)>& fn);
 
@@ -41,6 +42,7 @@ class ThreadPool {
   int chunks_ = 0;
   std::size_t generation_ = 0;
   int pending_ = 0;
+  std::vector<std::exception_ptr> errors_;  // per chunk
   bool stop_ = false;
 };
 

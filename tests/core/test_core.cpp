@@ -188,6 +188,21 @@ TEST(Core_Edge, MissingHooksAreReported) {
   EXPECT_THROW(edge.computeError(), Error);
 }
 
+TEST(Core_Edge, MissingHooksAreReportedFromWorkerThreads) {
+  // An edge that throws in a worker thread reaches the caller as the same exception.
+  Graph g;
+  for (int i = 0; i < 3000; ++i) {
+    addPoint(g, i, {0, 0});
+    auto e = std::make_unique<EdgeBroken>();
+    e->setVertexIds({i});
+    g.addEdge(std::move(e));
+  }
+  LinearSystem system;
+  system.setThreads(3);
+  system.update(g);
+  EXPECT_THROW((void)system.computeChi2(g), Error);
+}
+
 // --------------------------------------------------------------------------- I/O
 
 TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
