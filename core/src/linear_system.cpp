@@ -155,14 +155,19 @@ double LinearSystem::computeChi2(Graph& graph) {
 void LinearSystem::linearize() {
   Impl& im = *impl_;
   const auto& edges = im.hessian.activeEdges();
-  if (im.pool->threads() == 1 || !im.classified) {
+  if (!im.classified) {
     // Serial, and learns which edges perturb vertices in place.
     for (Edge* e : edges) e->linearizeOplus();
     im.parallel_edges.clear();
     im.serial_edges.clear();
-    for (Edge* e : edges)
+    for (Edge* e : edges) {
       (e->perturbsVerticesInPlace() ? im.serial_edges : im.parallel_edges).push_back(e);
+    }
     im.classified = true;
+    return;
+  }
+  if (im.pool->threads() == 1) {
+    for (Edge* e : edges) e->linearizeOplus();
     return;
   }
   const auto& par = im.parallel_edges;

@@ -100,13 +100,18 @@ ChosenOrdering chooseOrdering(const SparseStructure& s) {
   // Above this many predicted flops with AMD, METIS is tried as well (it costs about as
   // much as one factorisation of a few 1e7 flops and pays only on larger graphs).
   constexpr double kTryMetisFlops = 2e8;
+  const detail::BlockGraph g = detail::blockGraph(s);  // one graph for every prediction
+  auto predict = [&](const std::vector<int>& perm) {
+    const detail::SymbolicCost c = detail::symbolicCost(s, g, perm);
+    return CholeskyPrediction{c.factor_nonzeros, c.flops};
+  };
   ChosenOrdering chosen;
   chosen.perm = detail::orderColumns(Ordering::kAmd, s);
-  chosen.prediction = predictCholesky(s, chosen.perm);
+  chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
   if (chosen.prediction.flops > kTryMetisFlops) {
-    std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s);
-    const CholeskyPrediction metis_cost = predictCholesky(s, metis);
+    std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s, g);
+    const CholeskyPrediction metis_cost = predict(metis);
     if (metis_cost.flops < chosen.prediction.flops) {
       chosen = {Ordering::kMetis, std::move(metis), metis_cost};
     }

@@ -17,6 +17,9 @@
 
 namespace graphslam::solvers {
 
+/// Largest vertex dimension of a structure.
+int maxBlockSize(const SparseStructure& s);
+
 namespace {
 
 /// L = blocks in column storage: column i holds its diagonal block, then one block per
@@ -28,18 +31,11 @@ class BlockCholesky final : public detail::OrderedSolver {
   using Block = Eigen::Matrix<double, B, B>;
   using Vec = Eigen::Matrix<double, B, 1>;
 
-  explicit BlockCholesky(Ordering ordering) : ordering_(ordering) {}
-
   std::string name() const override { return "block-llt"; }
-  Ordering ordering() const override { return ordering_; }
 
-  LinearSolverResult analyze(const SparseStructure& s) override {
-    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
-  }
-
+  /// Only through BlockCholeskyAny, which owns the ordering.
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
-                                    Ordering label) override {
-    ordering_ = label;
+                                    Ordering /*label*/) override {
     nb_ = s.num_blocks;
     n_ = s.n;
     start_.assign(s.block_starts, s.block_starts + nb_ + 1);
@@ -239,7 +235,6 @@ class BlockCholesky final : public detail::OrderedSolver {
     bool transposed;
   };
 
-  Ordering ordering_;
   int nb_ = 0;
   int n_ = 0;
   bool uniform_ = true;
@@ -255,7 +250,7 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<Vec> y_;
 };
 
-/// Picks the block size at analysis: every vertex must have dimension 2 or 3, all alike.
+/// Picks the block size at analysis: the largest vertex dimension (2 or 3; 1 is padded to 2).
 class BlockCholeskyAny final : public detail::OrderedSolver {
  public:
   explicit BlockCholeskyAny(Ordering ordering) : ordering_(ordering) {}
@@ -269,11 +264,9 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
                                     Ordering label) override {
     ordering_ = label;
     impl_.reset();
-    int b = 0;
-    for (int k = 0; k < s.num_blocks; ++k)
-      b = std::max(b, s.block_starts[k + 1] - s.block_starts[k]);
-    if (b <= 2) impl_ = std::make_unique<BlockCholesky<2>>(label);
-    if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>(label);
+    const int b = maxBlockSize(s);
+    if (b <= 2) impl_ = std::make_unique<BlockCholesky<2>>();
+    if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>();
     if (!impl_) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,

@@ -182,7 +182,12 @@ std::vector<Ordering> availableOrderings() {
 
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
   if (ordering == Ordering::kAmd || ordering == Ordering::kDefault) return blockAmdOrdering(s);
-  return expand(orderBlockGraph(ordering, blockGraph(s)), s.block_starts, s.n);
+  return orderColumns(ordering, s, blockGraph(s));
+}
+
+std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const BlockGraph& g) {
+  if (ordering == Ordering::kAmd || ordering == Ordering::kDefault) return blockAmdOrdering(s);
+  return expand(orderBlockGraph(ordering, g), s.block_starts, s.n);
 }
 
 std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s) {

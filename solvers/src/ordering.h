@@ -29,6 +29,9 @@ struct BlockGraph {
 /// columns of H's block pattern as an unsymmetric matrix (as SuperLU's COLAMD option
 /// does). Throws graphslam::Error for an ordering this build lacks.
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s);
+/// The same with H's block graph already built (blockGraph(s)).
+[[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s,
+                                            const BlockGraph& g);
 /// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
 /// kAmd and kMetis order the block graph of J^T J.
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s);

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "symbolic.h"
 
-#include "ordering.h"
-
 namespace graphslam::solvers::detail {
 
 SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& order) {
+  return symbolicCost(s, blockGraph(s), order);
+}
+
+SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
+                          const std::vector<int>& order) {
   const int nb = s.num_blocks;
-  const BlockGraph g = blockGraph(s);
   const std::vector<int> block = blockOfColumn(s.block_starts, nb, s.n);
   // Block order: blocks in the order their first column appears.
   std::vector<int> new_of(static_cast<std::size_t>(nb), -1);  // original block -> position

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "ordering.h"
 
 namespace graphslam::solvers::detail {
 
@@ -44,5 +45,8 @@ struct SymbolicCost {
 /// original column at position k and must keep each block's columns contiguous. Work
 /// and memory are O(non-zero blocks of L).
 [[nodiscard]] SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& order);
+/// The same with H's block graph already built (blockGraph(s)).
+[[nodiscard]] SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
+                                        const std::vector<int>& order);
 
 }  // namespace graphslam::solvers::detail
