@@ -208,9 +208,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
       std::cout << "initialisation: " << r.message << "\n";
     } else {
       std::printf(
-          "initialisation: global, %zu poses and %zu landmarks placed (%zu angles unwrapped) in "
+          "initialisation: global, %zu poses and %zu landmarks placed in "
           "%.4f s\n",
-          r.poses, r.landmarks, r.wrapped_edges, r.seconds);
+          r.poses, r.landmarks, r.seconds);
     }
   }
   const auto initial_positions = positions(graph);

@@ -48,6 +48,18 @@ class BlockCholesky final : public detail::OrderedSolver {
                                                " in blocks of " + std::to_string(B));
       }
       uniform_ = uniform_ && d == B;
+      // Blocks are read with one stride per block column: every column of a block must
+      // store the same rows (complete blocks, as SparseStructure asks).
+      const int len = s.col_ptr[start_[b] + 1] - s.col_ptr[start_[b]];
+      for (int c = start_[b] + 1; c < start_[b + 1]; ++c) {
+        if (s.col_ptr[c + 1] - s.col_ptr[c] != len) {
+          return LinearSolverResult::failure(
+              LinearSolverStatus::kFailure,
+              "block-llt: columns " + std::to_string(start_[b]) + " and " + std::to_string(c) +
+                  " of one vertex store different rows (blocks must be stored complete)",
+              c);
+        }
+      }
     }
     const std::vector<int> block = detail::blockOfColumn(s.block_starts, nb_, s.n);
     // Block permutation: old_[k] = original block at position k.

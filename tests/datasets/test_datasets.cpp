@@ -92,7 +92,7 @@ std::vector<DatasetCase> cases() {
       {"csail.g2o", 38.956286, 38.95628587, true, defaults()},
       {"fr079.g2o", 37.599116, 37.59911592, true, defaults()},
       {"mit.g2o", 526.331038, 41.16326884, true, defaults()},
-      {"m3500b.g2o", 4212.0166, 3906.107972, true, defaults()},
+      {"m3500b.g2o", 4212.0166, 2054.715918, true, defaults()},
       {"dlr.g2o", 56860.35, 56860.35268, true, defaults()},
       {"victoria_park.g2o", 503457.85, 120018.4893, true, defaults()},
       {"citytrees10000.g2o", 8668.93, 8668.928087, true, defaults()},

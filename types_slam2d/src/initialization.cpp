@@ -3,6 +3,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <queue>
@@ -18,8 +19,6 @@
 namespace graphslam::types_slam2d {
 
 namespace {
-
-constexpr double kTwoPi = 6.28318530717958647692;
 
 using SpMat = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
@@ -41,20 +40,38 @@ bool solveSpd(const SpMat& a, int block, const Eigen::VectorXd& b, Eigen::Vector
     x = ldlt.solve(b);
     return ldlt.info() == Eigen::Success && x.allFinite();
   }
-  // The solver interface: upper triangle in CSC with full diagonal blocks.
+  // The solver interface: upper triangle in CSC, every stored block complete (its
+  // structural zeros too), the same rows in every column of a block.
   const int n = static_cast<int>(a.cols());
   std::vector<int> col_ptr(static_cast<std::size_t>(n) + 1, 0);
   std::vector<int> row_idx;
   std::vector<double> values;
-  row_idx.reserve(static_cast<std::size_t>(a.nonZeros()));
-  values.reserve(static_cast<std::size_t>(a.nonZeros()));
-  for (int c = 0; c < n; ++c) {
-    for (SpMat::InnerIterator it(a, c); it; ++it) {
-      if (it.row() / block > c / block) continue;
-      row_idx.push_back(static_cast<int>(it.row()));
-      values.push_back(it.value());
+  std::vector<int> blocks;                                 // row blocks of the current block column
+  std::vector<int> slot(static_cast<std::size_t>(n), -1);  // scalar row -> value index
+  for (int c0 = 0; c0 < n; c0 += block) {
+    blocks.clear();
+    for (int c = c0; c < c0 + block; ++c) {
+      for (SpMat::InnerIterator it(a, c); it; ++it) {
+        const int rb = static_cast<int>(it.row()) / block;
+        if (rb <= c0 / block) blocks.push_back(rb);
+      }
     }
-    col_ptr[c + 1] = static_cast<int>(row_idx.size());
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    for (int c = c0; c < c0 + block; ++c) {
+      for (int rb : blocks) {
+        for (int r = rb * block; r < (rb + 1) * block; ++r) {
+          slot[r] = static_cast<int>(row_idx.size());
+          row_idx.push_back(r);
+        }
+      }
+      values.resize(row_idx.size(), 0.0);
+      for (SpMat::InnerIterator it(a, c); it; ++it) {
+        const int r = static_cast<int>(it.row());
+        if (r / block <= c0 / block) values[static_cast<std::size_t>(slot[r])] = it.value();
+      }
+      col_ptr[c + 1] = static_cast<int>(row_idx.size());
+    }
   }
   std::vector<int> block_starts;
   for (int c = 0; c <= n; c += block) block_starts.push_back(c);
@@ -114,10 +131,8 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     return report;
   }
 
-  // Spanning trees (BFS) from anchors first, then from the lowest id of every group
-  // without an anchor, which becomes that group's gauge (held at its current estimate).
-  std::vector<double> tree_theta(static_cast<std::size_t>(n), 0.0);
-  std::vector<char> visited(static_cast<std::size_t>(n), 0);
+  // Connected groups (over EDGE_SE2), visited from anchors first; a group without an
+  // anchor holds its lowest-id pose where it is (its gauge).
   std::vector<char> gauge(static_cast<std::size_t>(n), 0);
   std::vector<int> order(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) order[i] = i;
@@ -125,20 +140,18 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     if (poses[a].anchored != poses[b].anchored) return poses[a].anchored;
     return poses[a].vertex->id() < poses[b].vertex->id();
   });
-  // Groups: label each pose with its connected component first.
   std::vector<int> group(static_cast<std::size_t>(n), -1);
-  std::vector<char> group_anchored;
+  int num_groups = 0;
   for (int s : order) {
     if (group[s] >= 0) continue;
-    const int g = static_cast<int>(group_anchored.size());
-    group_anchored.push_back(0);
+    const int g = num_groups++;
+    if (!poses[s].anchored) gauge[s] = 1;  // sorted: the group has no anchor at all
     std::queue<int> q;
     q.push(s);
     group[s] = g;
     while (!q.empty()) {
       const int u = q.front();
       q.pop();
-      if (poses[u].anchored) group_anchored[g] = 1;
       for (const auto& [edge, v] : poses[u].links) {
         if (group[v] < 0) {
           group[v] = g;
@@ -147,75 +160,67 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
       }
     }
   }
-  for (int s : order) {
-    if (visited[s]) continue;
-    if (!poses[s].anchored && !group_anchored[group[s]]) gauge[s] = 1;
-    std::queue<int> q;
-    q.push(s);
-    visited[s] = 1;
-    tree_theta[s] = poses[s].vertex->estimate().angle();
-    while (!q.empty()) {
-      const int u = q.front();
-      q.pop();
-      for (const auto& [edge, v] : poses[u].links) {
-        if (visited[v]) continue;
-        visited[v] = 1;
-        const bool forward = edge->vertex(0) == poses[u].vertex;
-        const double dz = edge->measurement().angle();
-        tree_theta[v] = tree_theta[u] + (forward ? dz : -dz);
-        q.push(v);
-      }
-    }
-  }
 
-  // Step 1: orientations. Unknowns: every pose that is neither fixed nor a gauge.
+  // Step 1: orientations by chordal relaxation. Each pose's rotation is the unit vector
+  // r_i = (cos theta_i, sin theta_i), relaxed to any vector of R^2; an edge asks for
+  // r_j = R(dtheta_ij) r_i and a prior for r_i = r(z), weighted by the angular
+  // information. The linear least-squares solution, normalised, gives the angles; no 2*pi
+  // ambiguity arises. Unknowns: every pose that is neither fixed nor a gauge.
   std::vector<int> var(static_cast<std::size_t>(n), -1);
   int nv = 0;
   for (int i = 0; i < n; ++i) {
     if (!poses[i].vertex->fixed() && !gauge[i]) var[i] = nv++;
   }
-  auto known_theta = [&](int i) {
-    return poses[i].vertex->fixed() || gauge[i] ? poses[i].vertex->estimate().angle() : 0.0;
-  };
+  std::vector<double> theta(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) theta[i] = poses[i].vertex->estimate().angle();
   {
     Triplets trip;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nv);
+    auto unit = [](double t) { return Eigen::Vector2d(std::cos(t), std::sin(t)); };
+    auto add_diagonal = [&](int a, double w) {
+      trip.emplace_back(2 * a, 2 * a, w);
+      trip.emplace_back(2 * a + 1, 2 * a + 1, w);
+    };
     for (int u = 0; u < n; ++u) {
       for (const auto& [edge, v] : poses[u].links) {
         if (edge->vertex(0) != poses[u].vertex) continue;  // each edge once, from its first pose
         const double w = edge->information()(2, 2);
-        double dz = edge->measurement().angle();
-        const double k = std::round((tree_theta[v] - tree_theta[u] - dz) / kTwoPi);
-        if (k != 0.0) ++report.wrapped_edges;
-        dz += k * kTwoPi;  // theta_v - theta_u = dz
+        const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
         const int a = var[u], b = var[v];
-        if (a >= 0) trip.emplace_back(a, a, w);
-        if (b >= 0) trip.emplace_back(b, b, w);
+        // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
+        if (a >= 0) add_diagonal(a, w);
+        if (b >= 0) add_diagonal(b, w);
         if (a >= 0 && b >= 0) {
-          trip.emplace_back(a, b, -w);
-          trip.emplace_back(b, a, -w);
+          for (int r = 0; r < 2; ++r) {
+            for (int c = 0; c < 2; ++c) {
+              trip.emplace_back(2 * a + r, 2 * b + c, -w * q(c, r));
+              trip.emplace_back(2 * b + r, 2 * a + c, -w * q(r, c));
+            }
+          }
+        } else if (a >= 0) {
+          rhs.segment<2>(2 * a) += w * q.transpose() * unit(theta[v]);
+        } else if (b >= 0) {
+          rhs.segment<2>(2 * b) += w * q * unit(theta[u]);
         }
-        if (a >= 0) rhs[a] += -w * dz + (b < 0 ? w * known_theta(v) : 0.0);
-        if (b >= 0) rhs[b] += w * dz + (a < 0 ? w * known_theta(u) : 0.0);
       }
     }
     for (const EdgePriorSE2* prior : priors) {
       const int i = pose_index.at(prior->vertex(0));
       if (var[i] < 0) continue;
       const double w = prior->information()(2, 2);
-      double z = prior->measurement().angle();
-      z += std::round((tree_theta[i] - z) / kTwoPi) * kTwoPi;
-      trip.emplace_back(var[i], var[i], w);
-      rhs[var[i]] += w * z;
+      add_diagonal(var[i], w);
+      rhs.segment<2>(2 * var[i]) += w * unit(prior->measurement().angle());
     }
-    SpMat a(nv, nv);
+    SpMat a(2 * nv, 2 * nv);
     a.setFromTriplets(trip.begin(), trip.end());
-    Eigen::VectorXd theta;
-    if (nv > 0 && !solveSpd(a, 1, rhs, theta, solver)) {
+    Eigen::VectorXd r;
+    if (nv > 0 && !solveSpd(a, 2, rhs, r, solver)) {
       report.message = "orientation system is singular: initial estimates kept";
       return report;
     }
-    for (int i = 0; i < n; ++i) tree_theta[i] = var[i] >= 0 ? theta[var[i]] : known_theta(i);
+    for (int i = 0; i < n; ++i) {
+      if (var[i] >= 0) theta[i] = std::atan2(r[2 * var[i] + 1], r[2 * var[i]]);
+    }
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
@@ -255,10 +260,10 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     for (int u = 0; u < n; ++u) {
       for (const auto& [edge, v] : poses[u].links) {
         if (edge->vertex(0) != poses[u].vertex) continue;
-        const Eigen::Matrix2d r = rotation2(tree_theta[u]) * edge->measurement().rotation();
+        const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
         const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
-        add(var[u], pos(u), var[v], pos(v),
-            rotation2(tree_theta[u]) * edge->measurement().translation(), w);
+        add(var[u], pos(u), var[v], pos(v), rotation2(theta[u]) * edge->measurement().translation(),
+            w);
       }
     }
     for (const EdgeSE2XY* obs : observations) {
@@ -266,7 +271,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
       const Vertex* l = obs->vertex(1);
       const int b = l->fixed() ? -1 : lm_var.at(l);
       const Eigen::Vector2d xl = static_cast<const VertexXY*>(l)->estimate();
-      const Eigen::Matrix2d r = rotation2(tree_theta[i]);
+      const Eigen::Matrix2d r = rotation2(theta[i]);
       const Eigen::Matrix2d w = r * obs->information() * r.transpose();
       add(var[i], pos(i), b, xl, r * obs->measurement(), w);
     }
@@ -287,7 +292,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     }
     for (int i = 0; i < n; ++i) {
       if (var[i] < 0) continue;
-      poses[i].vertex->setEstimate(SE2(x.segment<2>(2 * var[i]), tree_theta[i]));
+      poses[i].vertex->setEstimate(SE2(x.segment<2>(2 * var[i]), theta[i]));
       ++report.poses;
     }
     for (std::size_t k = 0; k < landmarks.size(); ++k) {

@@ -42,7 +42,9 @@ enum class SystemForm {
 
 /// Sparsity structure of a symmetric n x n matrix H in compressed sparse column form.
 /// Only the upper triangle is meaningful; the diagonal blocks are stored full (both
-/// triangles), and solvers must ignore entries below the diagonal. Row indices are
+/// triangles), and solvers must ignore entries below the diagonal. Every stored block is
+/// complete (all its entries, structural zeros too), so all columns of a vertex store the
+/// same rows. Row indices are
 /// sorted within each column. `block_starts` (size num_blocks + 1) gives the first column
 /// of every variable block (one block per vertex), so solvers can order on the block
 /// graph. The arrays stay valid and unchanged until the next analyze().

@@ -11,17 +11,17 @@ namespace graphslam::types_slam2d {
 
 /// What initializeGlobal() did.
 struct InitializationReport {
-  std::size_t poses = 0;          ///< VertexSE2 estimates replaced
-  std::size_t landmarks = 0;      ///< VertexXY estimates replaced
-  std::size_t wrapped_edges = 0;  ///< edges whose angle needed a 2*pi correction
+  std::size_t poses = 0;      ///< VertexSE2 estimates replaced
+  std::size_t landmarks = 0;  ///< VertexXY estimates replaced
   double seconds = 0.0;
   std::string message;  ///< empty on success; says what was skipped otherwise
 };
 
-/// Global initial guess for SE(2) graphs (LAGO-style, in two linear least-squares steps):
-///  1. orientations: the relative angles of EDGE_SE2 (and EDGE_PRIOR_SE2) are unwrapped
-///     along a spanning tree (each gets the 2*pi*k that makes it agree with the tree) and
-///     solved jointly, weighted by their angular information;
+/// Global initial guess for SE(2) graphs, in two linear least-squares steps:
+///  1. orientations by chordal relaxation: each rotation as a vector (cos, sin) of R^2,
+///     EDGE_SE2 asking r_j = R(dtheta) r_i and EDGE_PRIOR_SE2 r_i = r(z), weighted by the
+///     angular information; the solution's directions are the angles (no 2*pi ambiguity,
+///     robust to large rotation noise);
 ///  2. positions of poses and landmarks: with orientations known, EDGE_SE2, EDGE_SE2_XY
 ///     and EDGE_PRIOR_SE2 are linear in the translations and are solved jointly.
 /// Fixed vertices and priors anchor the solution; a connected group without either keeps
@@ -29,7 +29,8 @@ struct InitializationReport {
 /// Replaces the estimates of every free VertexSE2 reached by an EDGE_SE2 and of every
 /// free VertexXY observed by an EDGE_SE2_XY from such a pose; other vertices and edge
 /// types are left alone. Works on graphs whose estimates are all zero (edges-only files).
-/// The two systems are solved with Eigen's simplicial LDL^T (AMD ordering).
+/// The two systems (2 unknowns per pose, 2 per pose and landmark) are solved with Eigen's
+/// simplicial LDL^T (AMD ordering).
 InitializationReport initializeGlobal(Graph& graph);
 
 /// The same, solving both systems with `solver` (from a SolverRegistry; "auto" picks a
