@@ -4,6 +4,8 @@
 // initialisation), time things, keep and restore estimates, parse simple arguments.
 #pragma once
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -39,6 +41,18 @@ using Clock = std::chrono::steady_clock;
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+/// Makes every OpenMP parallel region of this process serial (max-active-levels 0), for
+/// graphslam's and Ceres' CHOLMOD alike: Debian's CHOLMOD asks for 4 OpenMP threads in
+/// each supernode's scatter loop whatever OMP_NUM_THREADS says, which on 2 cores made its
+/// factorisation 2-3x slower (its BLAS keeps OPENBLAS_NUM_THREADS threads). Returns what
+/// it did, for the output ("serial", or "none" without an OpenMP runtime in the process).
+inline const char* serialiseOpenMp() {
+  auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  if (!set) return "none";
+  set(0);
+  return "serial";
 }
 
 /// Thrown for bad input (message printed, exit code 2).

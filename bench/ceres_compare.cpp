@@ -182,6 +182,7 @@ int main(int argc, char** argv) {
   const double target = args.number("target", -1.0);
   args.finish();
   args.skipIfAbsent();
+  std::printf("openmp=%s\n", bench::serialiseOpenMp());
   const bench::Registries registries;
   const TypeRegistry& types = registries.types;
   const SolverRegistry& solvers = registries.solvers;

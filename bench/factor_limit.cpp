@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
       splitComma(args.text("solvers", Optimizer::Options{}.linear_solver + ",cholmod"));
   args.finish();
   args.skipIfAbsent();
+  std::printf("openmp=%s\n", bench::serialiseOpenMp());
   const bench::Registries registries;
   const TypeRegistry& types = registries.types;
   const SolverRegistry& solvers = registries.solvers;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common.h"
+#include "openmp_control.h"
 #include "ordering.h"
 #include "suitesparse.h"
 
@@ -63,6 +64,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     a_.sorted = 1;
     a_.packed = 1;
     perm_ = std::move(order);
+    const detail::SerialOpenMp serial;
     factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
@@ -77,7 +79,11 @@ class CholmodSolver final : public detail::OrderedSolver {
     if (!factor_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
     a_.xtype = CHOLMOD_REAL;
     a_.x = const_cast<double*>(values);  // read only
-    const int ok = cholmod_factorize(&a_, factor_, &common_);
+    int ok = 0;
+    {
+      const detail::SerialOpenMp serial;
+      ok = cholmod_factorize(&a_, factor_, &common_);
+    }
     a_.x = nullptr;
     a_.xtype = CHOLMOD_PATTERN;
     if (common_.status == CHOLMOD_NOT_POSDEF ||
@@ -99,6 +105,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     if (!factor_ || !b_)
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
     std::memcpy(b_->x, rhs, sizeof(double) * static_cast<std::size_t>(n_));
+    const detail::SerialOpenMp serial;
     const int ok =
         cholmod_solve2(CHOLMOD_A, factor_, b_, nullptr, &x_, nullptr, &y_, &e_, &common_);
     if (!ok || !x_) {
