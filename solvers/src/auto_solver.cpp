@@ -106,7 +106,7 @@ ChosenOrdering chooseOrdering(const SparseStructure& s) {
     return CholeskyPrediction{c.factor_nonzeros, c.flops};
   };
   ChosenOrdering chosen;
-  chosen.perm = detail::orderColumns(Ordering::kAmd, s);
+  chosen.perm = detail::orderColumns(Ordering::kAmd, s, g);
   chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
   if (chosen.prediction.flops > kTryMetisFlops) {

@@ -4,6 +4,8 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <cstdint>
+#include <mutex>
 #include <numeric>
 
 #include "graphslam/core/block_ordering.h"
@@ -15,6 +17,12 @@
 #endif
 
 namespace graphslam::solvers::detail {
+
+namespace {
+/// From this many blocks on, AMD and METIS block orderings are kept for the next request
+/// with the same block graph (cachedBlockOrdering).
+constexpr int kCacheMinBlocks = 50000;
+}  // namespace
 
 std::vector<int> blockOfColumn(const int* block_starts, int num_blocks, int n) {
   std::vector<int> block(static_cast<std::size_t>(n));
@@ -101,7 +109,7 @@ std::vector<int> metisBlocks(const BlockGraph& g) {
   a.sorted = 1;
   a.packed = 1;
   std::vector<int> perm(static_cast<std::size_t>(g.num_blocks));
-  const int ok = cholmod_metis(&a, nullptr, 0, 1, perm.data(), &cc);
+  const int ok = cholmod_metis(&a, nullptr, 0, 0, perm.data(), &cc);
   const int status = cc.status;
   cholmod_finish(&cc);
   if (!ok || status < CHOLMOD_OK) {
@@ -181,12 +189,63 @@ std::vector<Ordering> availableOrderings() {
 }
 
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
-  if (ordering == Ordering::kAmd || ordering == Ordering::kDefault) return blockAmdOrdering(s);
+  const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
+  if (amd && s.num_blocks < kCacheMinBlocks) return blockAmdOrdering(s);
   return orderColumns(ordering, s, blockGraph(s));
 }
 
+namespace {
+
+/// 64-bit fingerprint of a block graph (splitmix64 steps over its arrays).
+std::uint64_t fingerprint(const BlockGraph& g) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  auto mix = [&h](std::uint64_t v) {
+    h += v + 0x9e3779b97f4a7c15ULL;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    h ^= h >> 31;
+  };
+  mix(static_cast<std::uint64_t>(g.num_blocks));
+  for (int v : g.ptr) mix(static_cast<std::uint64_t>(v));
+  for (int v : g.idx) mix(static_cast<std::uint64_t>(v));
+  return h;
+}
+
+/// Block orderings of large graphs are kept (one per ordering, the most recent graph):
+/// AMD and METIS take seconds on a million blocks, and the global initial guess orders
+/// the same pose graph as the optimizer (2x2 and 3x3 blocks, one block graph). A
+/// fingerprint collision could only cost fill: every permutation of the blocks is valid.
+std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g) {
+  if (g.num_blocks < kCacheMinBlocks) return orderBlockGraph(ordering, g);
+  struct Entry {
+    std::uint64_t key = 0;
+    std::vector<int> perm;
+  };
+  static std::mutex mutex;
+  static Entry amd, metis;
+  Entry& entry = ordering == Ordering::kMetis ? metis : amd;
+  const std::uint64_t key = fingerprint(g);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (entry.key == key && entry.perm.size() == static_cast<std::size_t>(g.num_blocks)) {
+      return entry.perm;
+    }
+  }
+  std::vector<int> perm = orderBlockGraph(ordering, g);
+  const std::lock_guard<std::mutex> lock(mutex);
+  entry.key = key;
+  entry.perm = perm;
+  return perm;
+}
+
+}  // namespace
+
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const BlockGraph& g) {
-  if (ordering == Ordering::kAmd || ordering == Ordering::kDefault) return blockAmdOrdering(s);
+  const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
+  if (ordering == Ordering::kMetis || (amd && g.num_blocks >= kCacheMinBlocks)) {
+    return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g), s.block_starts, s.n);
+  }
+  if (amd) return blockAmdOrdering(s);
   return expand(orderBlockGraph(ordering, g), s.block_starts, s.n);
 }
 

@@ -5,10 +5,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cstdio>
+#include <numeric>
 #include <random>
 #include <set>
 
 #include "graphslam/core/error.h"
+#include "graphslam/solvers/ordering.h"
 #include "graphslam/solvers/register.h"
 
 using namespace graphslam;
@@ -361,6 +363,77 @@ TEST(Solvers_Auto, PredictsTheFactorExactly) {
     ASSERT_TRUE(cholmod->analyze(sys.structure()).ok());
     ASSERT_TRUE(cholmod->factorize(values.data()).ok());
     EXPECT_EQ(static_cast<double>(cholmod->factorNonZeros()), c.nnz);
+  }
+}
+
+/// A random block pattern (a chain plus one random link per block) built in linear time.
+struct LargeBlockPattern {
+  int nb, bs;
+  std::vector<int> block_starts, col_ptr{0}, row_idx;
+  LargeBlockPattern(int num_blocks, int block_size, unsigned seed)
+      : nb(num_blocks), bs(block_size) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> pick(0, nb - 1);
+    std::vector<std::vector<int>> rows(static_cast<std::size_t>(nb));  // row blocks <= column
+    for (int b = 0; b < nb; ++b) {
+      rows[b].push_back(b);
+      if (b > 0) rows[b].push_back(b - 1);
+      const int a = pick(rng), c = pick(rng);
+      if (a != c) rows[std::max(a, c)].push_back(std::min(a, c));
+    }
+    for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
+    for (int cb = 0; cb < nb; ++cb) {
+      auto& r = rows[cb];
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      for (int k = 0; k < bs; ++k) {
+        for (int rb : r) {
+          for (int i = 0; i < bs; ++i) row_idx.push_back(rb * bs + i);
+        }
+        col_ptr.push_back(static_cast<int>(row_idx.size()));
+      }
+    }
+  }
+  SparseStructure structure() const {
+    SparseStructure s;
+    s.n = nb * bs;
+    s.col_ptr = col_ptr.data();
+    s.row_idx = row_idx.data();
+    s.block_starts = block_starts.data();
+    s.num_blocks = nb;
+    return s;
+  }
+};
+
+TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
+  // The global initial guess (2x2 blocks) and the optimizer (3x3) order one pose graph;
+  // from 50000 blocks on, the block ordering is kept for the next request with the same
+  // block graph. Each must still get the ordering of its own graph.
+  std::vector<Ordering> orderings{Ordering::kAmd};
+  if (solvers::haveSuiteSparse()) orderings.push_back(Ordering::kMetis);
+  for (Ordering o : orderings) {
+    SCOPED_TRACE(toString(o));
+    const LargeBlockPattern two(60000, 2, 5), three(60000, 3, 5), other(60000, 3, 6);
+    const auto blocks_of = [](const std::vector<int>& perm, int bs) {
+      std::vector<int> order;
+      for (std::size_t k = 0; k < perm.size(); k += static_cast<std::size_t>(bs)) {
+        EXPECT_EQ(perm[k] % bs, 0);
+        order.push_back(perm[k] / bs);
+      }
+      return order;
+    };
+    const auto p2 = blocks_of(solvers::fillReducingOrdering(o, two.structure()), 2);
+    const auto p3 = blocks_of(solvers::fillReducingOrdering(o, three.structure()), 3);
+    const auto po = blocks_of(solvers::fillReducingOrdering(o, other.structure()), 3);
+    EXPECT_EQ(p2, p3);
+    EXPECT_NE(po, p3);  // another graph of the same size is ordered anew
+    for (const auto* p : {&p3, &po}) {
+      std::vector<int> sorted = *p;
+      std::sort(sorted.begin(), sorted.end());
+      std::vector<int> iota(sorted.size());
+      std::iota(iota.begin(), iota.end(), 0);
+      EXPECT_EQ(sorted, iota);
+    }
   }
 }
 

@@ -29,62 +29,99 @@ struct PoseNode {
   bool anchored = false;                              // fixed vertex or prior
 };
 
-/// Solves the symmetric positive definite system `a` (both triangles, unknowns in blocks
-/// of `block` scalars) with `solver`, or with Eigen's simplicial LDL^T when it is null;
-/// false on failure.
-bool solveSpd(const SpMat& a, int block, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-              LinearSolver* solver) {
-  if (!solver) {
-    Eigen::SimplicialLDLT<SpMat> ldlt(a);
-    if (ldlt.info() != Eigen::Success) return false;
-    x = ldlt.solve(b);
-    return ldlt.info() == Eigen::Success && x.allFinite();
-  }
-  // The solver interface: upper triangle in CSC, every stored block complete (its
-  // structural zeros too), the same rows in every column of a block.
-  const int n = static_cast<int>(a.cols());
-  std::vector<int> col_ptr(static_cast<std::size_t>(n) + 1, 0);
-  std::vector<int> row_idx;
-  std::vector<double> values;
-  std::vector<int> blocks;                                 // row blocks of the current block column
-  std::vector<int> slot(static_cast<std::size_t>(n), -1);  // scalar row -> value index
-  for (int c0 = 0; c0 < n; c0 += block) {
-    blocks.clear();
-    for (int c = c0; c < c0 + block; ++c) {
-      for (SpMat::InnerIterator it(a, c); it; ++it) {
-        const int rb = static_cast<int>(it.row()) / block;
-        if (rb <= c0 / block) blocks.push_back(rb);
-      }
+/// Solves symmetric positive definite systems (both triangles, unknowns in blocks of
+/// `block` scalars) with `solver`, or with Eigen's simplicial LDL^T when it is null. A
+/// system with the pattern of the previous one reuses its symbolic analysis (ordering and
+/// all): a pose graph's orientation and position systems share theirs.
+class SpdSolver {
+ public:
+  explicit SpdSolver(LinearSolver* solver) : solver_(solver) {}
+
+  /// False on failure.
+  bool solve(const SpMat& a, int block, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    if (!solver_) {
+      if (!samePattern(a)) ldlt_.analyzePattern(a);
+      ldlt_.factorize(a);
+      if (ldlt_.info() != Eigen::Success) return false;
+      x = ldlt_.solve(b);
+      return ldlt_.info() == Eigen::Success && x.allFinite();
     }
-    std::sort(blocks.begin(), blocks.end());
-    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
-    for (int c = c0; c < c0 + block; ++c) {
-      for (int rb : blocks) {
-        for (int r = rb * block; r < (rb + 1) * block; ++r) {
-          slot[r] = static_cast<int>(row_idx.size());
-          row_idx.push_back(r);
+    // The solver interface: upper triangle in CSC, every stored block complete (its
+    // structural zeros too), the same rows in every column of a block.
+    const int n = static_cast<int>(a.cols());
+    std::vector<int> col_ptr(static_cast<std::size_t>(n) + 1, 0);
+    std::vector<int> row_idx;
+    std::vector<double> values;
+    std::vector<int> blocks;                                 // row blocks of a block column
+    std::vector<int> slot(static_cast<std::size_t>(n), -1);  // scalar row -> value index
+    for (int c0 = 0; c0 < n; c0 += block) {
+      blocks.clear();
+      for (int c = c0; c < c0 + block; ++c) {
+        for (SpMat::InnerIterator it(a, c); it; ++it) {
+          const int rb = static_cast<int>(it.row()) / block;
+          if (rb <= c0 / block) blocks.push_back(rb);
         }
       }
-      values.resize(row_idx.size(), 0.0);
-      for (SpMat::InnerIterator it(a, c); it; ++it) {
-        const int r = static_cast<int>(it.row());
-        if (r / block <= c0 / block) values[static_cast<std::size_t>(slot[r])] = it.value();
+      std::sort(blocks.begin(), blocks.end());
+      blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+      for (int c = c0; c < c0 + block; ++c) {
+        for (int rb : blocks) {
+          for (int r = rb * block; r < (rb + 1) * block; ++r) {
+            slot[r] = static_cast<int>(row_idx.size());
+            row_idx.push_back(r);
+          }
+        }
+        values.resize(row_idx.size(), 0.0);
+        for (SpMat::InnerIterator it(a, c); it; ++it) {
+          const int r = static_cast<int>(it.row());
+          if (r / block <= c0 / block) values[static_cast<std::size_t>(slot[r])] = it.value();
+        }
+        col_ptr[c + 1] = static_cast<int>(row_idx.size());
       }
-      col_ptr[c + 1] = static_cast<int>(row_idx.size());
     }
+    x.resize(n);
+    if (!analyzed_ || block != block_ || col_ptr != col_ptr_ || row_idx != row_idx_) {
+      // The solver reads these arrays until its next analysis: they live here.
+      col_ptr_ = std::move(col_ptr);
+      row_idx_ = std::move(row_idx);
+      block_ = block;
+      block_starts_.clear();
+      for (int c = 0; c <= n; c += block) block_starts_.push_back(c);
+      SparseStructure st;
+      st.n = n;
+      st.col_ptr = col_ptr_.data();
+      st.row_idx = row_idx_.data();
+      st.block_starts = block_starts_.data();
+      st.num_blocks = n / block;
+      analyzed_ = solver_->analyze(st).ok();
+      if (!analyzed_) return false;
+    }
+    return solver_->factorize(values.data()).ok() && solver_->solve(b.data(), x.data()).ok() &&
+           x.allFinite();
   }
-  std::vector<int> block_starts;
-  for (int c = 0; c <= n; c += block) block_starts.push_back(c);
-  SparseStructure s;
-  s.n = n;
-  s.col_ptr = col_ptr.data();
-  s.row_idx = row_idx.data();
-  s.block_starts = block_starts.data();
-  s.num_blocks = n / block;
-  x.resize(n);
-  return solver->analyze(s).ok() && solver->factorize(values.data()).ok() &&
-         solver->solve(b.data(), x.data()).ok() && x.allFinite();
-}
+
+ private:
+  bool samePattern(const SpMat& a) {
+    const auto* p = a.outerIndexPtr();
+    const auto* i = a.innerIndexPtr();
+    const auto cols = static_cast<std::size_t>(a.cols());
+    const bool same = analyzed_ && col_ptr_.size() == cols + 1 &&
+                      std::equal(p, p + cols + 1, col_ptr_.begin()) &&
+                      std::equal(i, i + p[cols], row_idx_.begin(), row_idx_.end());
+    if (!same) {
+      col_ptr_.assign(p, p + cols + 1);
+      row_idx_.assign(i, i + p[cols]);
+      analyzed_ = true;
+    }
+    return same;
+  }
+
+  LinearSolver* solver_;
+  Eigen::SimplicialLDLT<SpMat> ldlt_;
+  std::vector<int> col_ptr_, row_idx_, block_starts_;
+  int block_ = 0;
+  bool analyzed_ = false;
+};
 
 }  // namespace
 
@@ -93,28 +130,39 @@ InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(gr
 InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   const auto t0 = std::chrono::steady_clock::now();
   InitializationReport report;
+  SpdSolver spd(solver);
 
-  // Poses reached by relative-pose edges.
-  std::unordered_map<const Vertex*, int> pose_index;
-  std::vector<PoseNode> poses;
-  std::vector<const EdgePriorSE2*> priors;
-  std::vector<const EdgeSE2XY*> observations;
-  auto index_of = [&](const Vertex* v) {
-    auto [it, inserted] = pose_index.emplace(v, static_cast<int>(poses.size()));
-    if (inserted) {
-      auto* pose = static_cast<VertexSE2*>(graph.vertex(v->id()));
-      poses.push_back({pose, {}, pose->fixed()});
-    }
-    return it->second;
-  };
+  // Poses reached by relative-pose edges, in id order (the optimizer's order of blocks:
+  // large graphs then share one fill-reducing ordering with it).
+  std::vector<const EdgeSE2*> relative;
+  std::vector<VertexSE2*> pose_vertices;
   for (const auto& e : graph.edges()) {
     if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
-      const int i = index_of(se2->vertex(0));
-      const int j = index_of(se2->vertex(1));
-      poses[i].links.emplace_back(se2, j);
-      poses[j].links.emplace_back(se2, i);
+      relative.push_back(se2);
+      for (std::size_t k = 0; k < 2; ++k) {
+        pose_vertices.push_back(static_cast<VertexSE2*>(graph.vertex(se2->vertex(k)->id())));
+      }
     }
   }
+  std::sort(pose_vertices.begin(), pose_vertices.end(),
+            [](const VertexSE2* a, const VertexSE2* b) { return a->id() < b->id(); });
+  pose_vertices.erase(std::unique(pose_vertices.begin(), pose_vertices.end()), pose_vertices.end());
+  std::unordered_map<const Vertex*, int> pose_index;
+  pose_index.reserve(pose_vertices.size());
+  std::vector<PoseNode> poses;
+  poses.reserve(pose_vertices.size());
+  for (VertexSE2* v : pose_vertices) {
+    pose_index.emplace(v, static_cast<int>(poses.size()));
+    poses.push_back({v, {}, v->fixed()});
+  }
+  for (const EdgeSE2* se2 : relative) {
+    const int i = pose_index.at(se2->vertex(0));
+    const int j = pose_index.at(se2->vertex(1));
+    poses[i].links.emplace_back(se2, j);
+    poses[j].links.emplace_back(se2, i);
+  }
+  std::vector<const EdgePriorSE2*> priors;
+  std::vector<const EdgeSE2XY*> observations;
   for (const auto& e : graph.edges()) {
     if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
       auto it = pose_index.find(prior->vertex(0));
@@ -177,9 +225,11 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     Triplets trip;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nv);
     auto unit = [](double t) { return Eigen::Vector2d(std::cos(t), std::sin(t)); };
-    auto add_diagonal = [&](int a, double w) {
+    auto add_diagonal = [&](int a, double w) {  // w I, stored as a full 2x2 block
       trip.emplace_back(2 * a, 2 * a, w);
       trip.emplace_back(2 * a + 1, 2 * a + 1, w);
+      trip.emplace_back(2 * a, 2 * a + 1, 0.0);
+      trip.emplace_back(2 * a + 1, 2 * a, 0.0);
     };
     for (int u = 0; u < n; ++u) {
       for (const auto& [edge, v] : poses[u].links) {
@@ -214,7 +264,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     SpMat a(2 * nv, 2 * nv);
     a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd r;
-    if (nv > 0 && !solveSpd(a, 2, rhs, r, solver)) {
+    if (nv > 0 && !spd.solve(a, 2, rhs, r)) {
       report.message = "orientation system is singular: initial estimates kept";
       return report;
     }
@@ -286,7 +336,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     SpMat a(2 * nt, 2 * nt);
     a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd x;
-    if (nt > 0 && !solveSpd(a, 2, rhs, x, solver)) {
+    if (nt > 0 && !spd.solve(a, 2, rhs, x)) {
       report.message = "position system is singular: initial estimates kept";
       return report;
     }
