@@ -17,7 +17,10 @@ this order within a repeat (so that a noisy machine hits all three alike):
 Times are medians over the repeats; ratios are taken from the medians of the same run.
 Writes a Markdown report (default docs/BENCHMARKS.md) with the command, machine notes and
 the tables. BLAS/OpenMP threads are set for the children: OMP_NUM_THREADS and
-OPENBLAS_NUM_THREADS = --threads (default 1; Ceres gets the same num_threads).
+OPENBLAS_NUM_THREADS = --threads (default 1; Ceres gets the same num_threads). CHOLMOD's own
+OpenMP loops (4 threads per supernode in Debian's build, whatever OMP_NUM_THREADS says) run
+serially in every program: factor_limit and ceres_compare set max-active-levels 0 for the
+whole process (Ceres' CHOLMOD too), graphslam's solver around its CHOLMOD calls.
 
 Run with /usr/bin/python3 (Debian's). Needs a Release build (default ./build) with the bench
 programs (SuiteSparse for factor_limit, libceres-dev for ceres_compare; a missing program
@@ -165,7 +168,9 @@ def machine_notes(threads):
                        "libceres3", "libopenblas0-pthread", "libeigen3-dev"])
     notes.append("- packages: " + "; ".join(p.strip() for p in pkgs.splitlines() if p.strip()))
     notes.append(f"- threads: OMP_NUM_THREADS={threads}, OPENBLAS_NUM_THREADS={threads}, "
-                 f"Ceres num_threads={threads}")
+                 f"Ceres num_threads={threads}; CHOLMOD's OpenMP loops serial in every program "
+                 "(OpenMP max-active-levels 0: Debian's CHOLMOD asks for 4 threads per "
+                 "supernode whatever OMP_NUM_THREADS says, 2-3x slower on 2 cores)")
     return notes
 
 
@@ -452,9 +457,11 @@ def write_report(args, notes, results, skipped):
              "gradient_tolerance 1e-10, parameter_tolerance 1e-10, num_threads = --threads. "
              "Ceres' iterations count successful and unsuccessful steps.")
     L.append("- Threads: --threads sets graphslam's `--threads` (errors and Jacobians), "
-             "OpenBLAS/OpenMP threads (CHOLMOD's supernodal factorisation, not used by "
+             "OpenBLAS threads (CHOLMOD's supernodal factorisation, not used by "
              "`auto` on these files) and Ceres' num_threads. One thread is the default because "
-             "the machine has 2 cores shared with other jobs.")
+             "the machine has 2 cores shared with other jobs. CHOLMOD's internal OpenMP loops "
+             "run serially for graphslam, for Ceres and for the limit alike (before this was "
+             "controlled, Ceres' CHOLMOD factorisation on city10000 took 3x longer).")
     L.append("")
     # The scale section (bench/run_scale.py) is kept as it is.
     if os.path.exists(args.out):

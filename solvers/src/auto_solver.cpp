@@ -23,10 +23,11 @@ int maxBlockSize(const SparseStructure& s);
 namespace {
 
 /// Above this many predicted flops, CHOLMOD's supernodal factorisation (dense BLAS on the
-/// fronts, BLAS threads) beats the simplicial ones: 2e9 for the scalar eigen-ldlt, 2e10
-/// for block-llt (on par with CHOLMOD at 7e9 flops, the 100k-pose graph).
+/// fronts, BLAS threads) beats the simplicial ones: 2e9 for the scalar eigen-ldlt, 1e9 for
+/// block-llt (with CHOLMOD's OpenMP loops serial, openmp_control.h: block-llt is 1.5x
+/// faster at 2e8 flops, the 10k-pose graph, CHOLMOD 2x faster at 7e9, the 100k one).
 constexpr double kSupernodalFlops = 2e9;
-constexpr double kBlockSupernodalFlops = 2e10;
+constexpr double kBlockSupernodalFlops = 1e9;
 
 class AutoSolver final : public LinearSolver {
  public:
