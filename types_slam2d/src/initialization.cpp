@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <queue>
 #include <unordered_map>
 #include <vector>
@@ -179,30 +180,26 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     return report;
   }
 
-  // Connected groups (over EDGE_SE2), visited from anchors first; a group without an
-  // anchor holds its lowest-id pose where it is (its gauge).
+  // Connected groups (over EDGE_SE2), flooded from anchored poses first, then in id order
+  // (poses are numbered by id): a group reached from an unanchored pose has no anchor and
+  // holds that pose, its lowest id, where it is (its gauge).
   std::vector<char> gauge(static_cast<std::size_t>(n), 0);
   std::vector<int> order(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    if (poses[a].anchored != poses[b].anchored) return poses[a].anchored;
-    return poses[a].vertex->id() < poses[b].vertex->id();
-  });
-  std::vector<int> group(static_cast<std::size_t>(n), -1);
-  int num_groups = 0;
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_partition(order.begin(), order.end(), [&](int i) { return poses[i].anchored; });
+  std::vector<char> reached(static_cast<std::size_t>(n), 0);
   for (int s : order) {
-    if (group[s] >= 0) continue;
-    const int g = num_groups++;
-    if (!poses[s].anchored) gauge[s] = 1;  // sorted: the group has no anchor at all
+    if (reached[s]) continue;
+    if (!poses[s].anchored) gauge[s] = 1;
     std::queue<int> q;
     q.push(s);
-    group[s] = g;
+    reached[s] = 1;
     while (!q.empty()) {
       const int u = q.front();
       q.pop();
       for (const auto& [edge, v] : poses[u].links) {
-        if (group[v] < 0) {
-          group[v] = g;
+        if (!reached[v]) {
+          reached[v] = 1;
           q.push(v);
         }
       }
