@@ -433,6 +433,8 @@ std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
   return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", Ordering::kAmd);
 }
 
+std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
+
 void registerEigenSolvers(SolverRegistry& registry) {
   const auto orderings = detail::availableOrderings();
   registry.registerSolver(
@@ -451,6 +453,13 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "at most 3; smaller ones padded)",
       SystemForm::kNormalEquations, orderings,
       [](const LinearSolverOptions& o) { return makeBlockCholesky(o.ordering); });
+  registry.registerSolver(
+      "isotropic",
+      "H = H_s (x) I_d (isotropic linear SLAM: every block a multiple of the identity): "
+      "Cholesky of the scalar H_s on the block graph (CHOLMOD supernodal when its predicted "
+      "work is large, else Eigen SimplicialLDLT), d right-hand sides; fails on other systems",
+      SystemForm::kNormalEquations, orderings,
+      [](const LinearSolverOptions& o) { return makeIsotropicSolver(o.ordering); });
   registry.registerSolver(
       "eigen-qr", "Eigen SparseQR on the whitened Jacobian J", SystemForm::kJacobian, orderings,
       [](const LinearSolverOptions& o) { return std::make_unique<EigenQrSolver>(o.ordering); });

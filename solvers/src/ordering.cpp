@@ -8,10 +8,10 @@
 #include <mutex>
 #include <numeric>
 
-#include "graphslam/core/block_ordering.h"
 #include "graphslam/core/error.h"
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
+#include <amd.h>
 #include <cholmod.h>
 #include <colamd.h>
 #endif
@@ -60,6 +60,18 @@ std::vector<int> expand(const std::vector<int>& block_perm, const int* block_sta
 }
 
 std::vector<int> amdBlocks(const BlockGraph& g) {
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+  // SuiteSparse's AMD reads the symmetric pattern as it is (no copy, no values).
+  std::vector<int> p(static_cast<std::size_t>(g.num_blocks));
+  double control[AMD_CONTROL];
+  double info[AMD_INFO];
+  amd_defaults(control);
+  const int status = amd_order(g.num_blocks, g.ptr.data(), g.idx.data(), p.data(), control, info);
+  if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED) {
+    throw Error("AMD ordering failed (status " + std::to_string(status) + ")");
+  }
+  return p;
+#else
   // Eigen's AMD reads only the pattern, but takes a matrix with values.
   const std::vector<double> ones(g.idx.size(), 1.0);
   const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::ColMajor, int>> m(
@@ -70,10 +82,10 @@ std::vector<int> amdBlocks(const BlockGraph& g) {
   Eigen::AMDOrdering<int> amd;
   amd(copy, p);
   return {p.indices().data(), p.indices().data() + p.indices().size()};
+#endif
 }
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-/// COLAMD on a rows x cols pattern (CSC), returns the column order.
 std::vector<int> colamdColumns(int rows, int cols, const std::vector<int>& ptr,
                                const std::vector<int>& idx) {
   const int nnz = static_cast<int>(idx.size());
@@ -149,17 +161,44 @@ std::vector<int> orderBlockGraph(Ordering ordering, const BlockGraph& g) {
 }  // namespace
 
 BlockGraph blockGraph(const SparseStructure& s) {
-  const auto block = blockOfColumn(s.block_starts, s.num_blocks, s.n);
-  std::vector<std::vector<int>> lists(static_cast<std::size_t>(s.num_blocks));
-  for (int b = 0; b < s.num_blocks; ++b) {
-    const int c = s.block_starts[b];  // every column of a block has the same pattern
-    for (int k = s.col_ptr[c]; k < s.col_ptr[c + 1]; ++k) {
+  // H's upper block column b lists its blocks (r, b), r <= b, d_r rows each, rows sorted
+  // (every column of a block has the same pattern: the first is read). Column b of the
+  // symmetric graph is those r, then every c > b whose column holds block (b, c), in
+  // increasing c: sorted, without a sort. Two passes: count, then fill.
+  const int nb = s.num_blocks;
+  const auto block = blockOfColumn(s.block_starts, nb, s.n);
+  BlockGraph g;
+  g.num_blocks = nb;
+  g.ptr.assign(static_cast<std::size_t>(nb) + 1, 0);
+  auto for_upper = [&](int b, auto&& visit) {
+    const int c = s.block_starts[b];
+    for (int k = s.col_ptr[c]; k < s.col_ptr[c + 1];) {
       const int rb = block[s.row_idx[k]];
-      lists[b].push_back(rb);
-      if (rb != b) lists[rb].push_back(b);
+      if (rb > b) break;  // entries below the diagonal block (not stored in upper form)
+      visit(rb);
+      k += s.block_starts[rb + 1] - s.block_starts[rb];
     }
+  };
+  for (int b = 0; b < nb; ++b) {
+    for_upper(b, [&](int rb) {
+      ++g.ptr[b + 1];
+      if (rb != b) ++g.ptr[rb + 1];
+    });
   }
-  return fromLists(lists);
+  for (int b = 0; b < nb; ++b) g.ptr[b + 1] += g.ptr[b];
+  g.idx.resize(static_cast<std::size_t>(g.ptr[nb]));
+  std::vector<int> next(g.ptr.begin(), g.ptr.end() - 1);
+  // Upper parts first (each column's own rows), then the transposed entries in column
+  // order: column rb receives b's in increasing b, after its own upper rows.
+  for (int b = 0; b < nb; ++b) {
+    for_upper(b, [&](int rb) { g.idx[next[b]++] = rb; });
+  }
+  for (int b = 0; b < nb; ++b) {
+    for_upper(b, [&](int rb) {
+      if (rb != b) g.idx[next[rb]++] = b;
+    });
+  }
+  return g;
 }
 
 BlockGraph blockGraph(const JacobianStructure& s) {
@@ -189,8 +228,6 @@ std::vector<Ordering> availableOrderings() {
 }
 
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
-  const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
-  if (amd && s.num_blocks < kCacheMinBlocks) return blockAmdOrdering(s);
   return orderColumns(ordering, s, blockGraph(s));
 }
 
@@ -245,7 +282,6 @@ std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const
   if (ordering == Ordering::kMetis || (amd && g.num_blocks >= kCacheMinBlocks)) {
     return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g), s.block_starts, s.n);
   }
-  if (amd) return blockAmdOrdering(s);
   return expand(orderBlockGraph(ordering, g), s.block_starts, s.n);
 }
 

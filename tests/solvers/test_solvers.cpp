@@ -160,6 +160,19 @@ class Solvers_Conformance : public ::testing::TestWithParam<std::string> {
   }
   static bool jacobianForm(const LinearSolver& s) { return s.form() == SystemForm::kJacobian; }
   std::string name() const { return GetParam().substr(0, GetParam().find(':')); }
+  /// The isotropic solver takes only H = H_s (x) I: its systems are made so (H_s from the
+  /// blocks' (0, 0) entries, diagonally dominant like m, so positive definite).
+  Eigen::MatrixXd adapt(const Eigen::MatrixXd& m, int bs) const {
+    if (name() != "isotropic") return m;
+    const auto nb = m.rows() / bs;
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(m.rows(), m.cols());
+    for (Eigen::Index r = 0; r < nb; ++r) {
+      for (Eigen::Index c = 0; c < nb; ++c) {
+        for (int i = 0; i < bs; ++i) k(r * bs + i, c * bs + i) = m(r * bs, c * bs);
+      }
+    }
+    return k;
+  }
 };
 
 TEST_P(Solvers_Conformance, SolvesRepeatedlyWithOneAnalysis) {
@@ -187,7 +200,7 @@ TEST_P(Solvers_Conformance, SolvesRepeatedlyWithOneAnalysis) {
     BlockSystem sys(40, 3, rng);
     ASSERT_TRUE(solver->analyze(sys.structure()).ok());
     for (int round = 0; round < 5; ++round) {
-      const Eigen::MatrixXd m = sys.randomSpd(rng);
+      const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
       const auto values = sys.values(m);
       const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
       ASSERT_TRUE(solver->factorize(values.data()).ok()) << "round " << round;
@@ -207,7 +220,7 @@ TEST_P(Solvers_Conformance, RhsAndSolutionMayAlias) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "rhs (rows) and x (cols) differ in size in J form";
   BlockSystem sys(15, 3, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const Eigen::MatrixXd m = sys.randomSpd(rng);
+  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
   const auto values = sys.values(m);
   ASSERT_TRUE(solver->factorize(values.data()).ok());
   Eigen::VectorXd x = Eigen::VectorXd::Random(sys.n());
@@ -222,7 +235,7 @@ TEST_P(Solvers_Conformance, EntriesBelowTheDiagonalAreIgnored) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "J has no triangle to ignore";
   BlockSystem sys(10, 2, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const Eigen::MatrixXd m = sys.randomSpd(rng);
+  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
   Eigen::MatrixXd garbage = m;
   garbage.triangularView<Eigen::StrictlyLower>().setConstant(1e6);
   const auto values = sys.values(garbage);
@@ -239,8 +252,9 @@ TEST_P(Solvers_Conformance, IndefiniteSystemIsAFailureNamingAColumn) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "J^T J cannot be indefinite";
   BlockSystem sys(12, 3, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  Eigen::MatrixXd m = sys.randomSpd(rng);
-  m(20, 20) = -50.0;  // column 20 belongs to block 6
+  Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+  m(20, 20) = -50.0;                                         // column 20 belongs to block 6
+  if (name() == "isotropic") m(18, 18) = m(19, 19) = -50.0;  // still a multiple of I
   const auto values = sys.values(m);
   LinearSolverResult r = solver->factorize(values.data());
   if (r.ok() && name() == "pcg") {  // conjugate gradients meet the negative curvature later
@@ -269,7 +283,7 @@ TEST_P(Solvers_Conformance, SingularSystemIsAFailure) {
   } else {
     BlockSystem sys(8, 3, rng);
     ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-    Eigen::MatrixXd m = sys.randomSpd(rng);
+    Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
     // Zero out everything touching block 3: a vertex nothing constrains.
     m.middleRows(9, 3).setZero();
     m.middleCols(9, 3).setZero();
@@ -564,3 +578,58 @@ TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
 }
 
 }  // namespace
+
+TEST(Solvers_Isotropic, RejectsSystemsThatAreNotAMultipleOfTheIdentityPerBlock) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(37);
+  BlockSystem sys(12, 2, rng);
+  auto solver = registry.create("isotropic:amd");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  // A general SPD matrix: its blocks have off-diagonal entries.
+  const Eigen::MatrixXd m = sys.randomSpd(rng);
+  const auto values = sys.values(m);
+  const LinearSolverResult r = solver->factorize(values.data());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status, LinearSolverStatus::kFailure);
+  EXPECT_NE(r.message.find("not a multiple of the identity"), std::string::npos) << r.message;
+  EXPECT_GE(r.column, 0);
+  EXPECT_LT(r.column, sys.n());
+  // Unequal diagonal entries in one block are rejected too.
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(sys.n(), sys.n());
+  for (int a = 0; a < sys.nb; ++a) {
+    for (int b = 0; b < sys.nb; ++b) {
+      for (int i = 0; i < 2; ++i) k(2 * a + i, 2 * b + i) = m(2 * a, 2 * b);
+    }
+  }
+  const auto good = sys.values(k);
+  EXPECT_TRUE(solver->factorize(good.data()).ok());
+  k(7, 7) *= 1.5;  // block 3: diagonal (d, 1.5 d)
+  const auto bad = sys.values(k);
+  const LinearSolverResult r2 = solver->factorize(bad.data());
+  ASSERT_FALSE(r2.ok());
+  EXPECT_EQ(r2.column, 7);
+}
+
+TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  // Two vertices of dimension 3 and 2, one block between them.
+  const std::vector<int> starts{0, 3, 5};
+  std::vector<int> col_ptr{0}, row_idx;
+  for (int c = 0; c < 5; ++c) {
+    const int last = c < 3 ? 3 : 5;
+    for (int r = 0; r < last; ++r) row_idx.push_back(r);
+    col_ptr.push_back(static_cast<int>(row_idx.size()));
+  }
+  SparseStructure s;
+  s.n = 5;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = starts.data();
+  s.num_blocks = 2;
+  auto solver = registry.create("isotropic:natural");
+  const LinearSolverResult r = solver->analyze(s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message.find("same dimension"), std::string::npos) << r.message;
+}
