@@ -103,6 +103,11 @@ class OrderedSolver : public LinearSolver {
                                                           Ordering label) = 0;
 };
 
+/// First column of H (upper CSC, complete blocks) whose vertex block column holds a
+/// block that is not a multiple of the identity, or whose vertices differ in dimension;
+/// -1 when H = H_s (x) I_d (isotropic_solver.cpp).
+[[nodiscard]] int firstNonIsotropicColumn(const SparseStructure& s, const double* h);
+
 inline LinearSolverResult notFinite() {
   return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
 }

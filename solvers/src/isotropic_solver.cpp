@@ -85,8 +85,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
         }
       }
     }
-    h_col_ptr_ = s.col_ptr;
-    h_row_idx_ = s.row_idx;
+    h_ = s;
     block_starts_.resize(static_cast<std::size_t>(nb_) + 1);
     for (int b = 0; b <= nb_; ++b) block_starts_[b] = b;
     scalar_.n = nb_;
@@ -110,28 +109,14 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult factorize(const double* h) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    // Every block (r, c) must be v I, v its (0, 0) entry. The d columns of block column c
-    // store the same blocks, d consecutive rows each (complete blocks).
-    for (int c = 0; c < nb_; ++c) {
-      for (int j = 0; j < d_; ++j) {
-        const int col = c * d_ + j;
-        int p = h_col_ptr_[col];
-        for (int k = col_ptr_[c]; k < col_ptr_[c + 1]; ++k, p += d_) {
-          const double v = h[source_[k]];
-          for (int i = 0; i < d_; ++i) {
-            if (row_idx_[k] * d_ + i > col) break;  // below the diagonal: not read
-            const double expected = i == j ? v : 0.0;
-            if (std::abs(h[p + i] - expected) > kRelativeTolerance * std::abs(v)) {
-              return LinearSolverResult::failure(
-                  LinearSolverStatus::kFailure,
-                  "isotropic: H is not H_s (x) I_" + std::to_string(d_) + ": the block of rows " +
-                      std::to_string(row_idx_[k] * d_) + "+ and columns " + std::to_string(c * d_) +
-                      "+ is not a multiple of the identity",
-                  col);
-            }
-          }
-        }
-      }
+    const int bad = detail::firstNonIsotropicColumn(h_, h);
+    if (bad >= 0) {
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "isotropic: H is not H_s (x) I_" + std::to_string(d_) + ": a block of columns " +
+              std::to_string(bad - bad % d_) + ".." + std::to_string(bad - bad % d_ + d_ - 1) +
+              " is not a multiple of the identity",
+          bad);
     }
     values_.resize(source_.size());
     for (std::size_t k = 0; k < source_.size(); ++k) values_[k] = h[source_[k]];
@@ -162,14 +147,43 @@ class IsotropicSolver final : public detail::OrderedSolver {
   Ordering ordering_;
   std::unique_ptr<detail::OrderedSolver> inner_;
   int nb_ = 0, n_ = 0, d_ = 1;
-  const int* h_col_ptr_ = nullptr;
-  const int* h_row_idx_ = nullptr;
+  SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   std::vector<int> col_ptr_, row_idx_, source_, block_starts_;
   SparseStructure scalar_;
   std::vector<double> values_, b_, y_;
 };
 
 }  // namespace
+
+namespace detail {
+
+int firstNonIsotropicColumn(const SparseStructure& s, const double* h) {
+  if (s.num_blocks == 0) return -1;
+  const int d = s.block_starts[1] - s.block_starts[0];
+  for (int c = 0; c < s.num_blocks; ++c) {
+    const int first = s.block_starts[c];
+    if (s.block_starts[c + 1] - first != d) return first;
+    // Block k of the column starts at entry k*d of every column of the block column
+    // (complete blocks); its (0, 0) entry is v, every entry must be v I.
+    const int stored = s.col_ptr[first + 1] - s.col_ptr[first];
+    for (int j = 0; j < d; ++j) {
+      const int col = first + j;
+      if (s.col_ptr[col + 1] - s.col_ptr[col] != stored) return col;
+      for (int k = 0; k < stored; k += d) {
+        const double v = h[s.col_ptr[first] + k];
+        const int p = s.col_ptr[col] + k;
+        const int row0 = s.row_idx[p];
+        for (int i = 0; i < d && row0 + i <= col; ++i) {  // below the diagonal: not read
+          const double expected = i == j ? v : 0.0;
+          if (!(std::abs(h[p + i] - expected) <= kRelativeTolerance * std::abs(v))) return col;
+        }
+      }
+    }
+  }
+  return -1;
+}
+
+}  // namespace detail
 
 std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering) {
   return std::make_unique<IsotropicSolver>(ordering);

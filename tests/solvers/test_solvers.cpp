@@ -633,3 +633,33 @@ TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message.find("same dimension"), std::string::npos) << r.message;
 }
+
+TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(41);
+  BlockSystem sys(30, 2, rng);
+  auto solver = registry.create("auto");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  const Eigen::MatrixXd general = sys.randomSpd(rng);
+  Eigen::MatrixXd iso_values = Eigen::MatrixXd::Zero(sys.n(), sys.n());
+  for (int a = 0; a < sys.nb; ++a) {
+    for (int b = 0; b < sys.nb; ++b) {
+      for (int i = 0; i < 2; ++i) iso_values(2 * a + i, 2 * b + i) = general(2 * a, 2 * b);
+    }
+  }
+  const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
+  const Eigen::MatrixXd& iso = iso_values;
+  std::size_t nnz_general = 0, nnz_iso = 0;
+  // Alternating values on one analysis: each solve must be exact for its own matrix.
+  for (const Eigen::MatrixXd* m : {&general, &iso, &general, &iso}) {
+    const auto values = sys.values(*m);
+    ASSERT_TRUE(solver->factorize(values.data()).ok());
+    Eigen::VectorXd x(sys.n());
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+    EXPECT_LT((*m * x - rhs).norm(), 1e-10 * rhs.norm());
+    (m == &iso ? nnz_iso : nnz_general) = solver->factorNonZeros();
+  }
+  // L = L_s (x) I_2 stores d entries per non-zero of L_s, the block factor d^2 per block.
+  EXPECT_LT(nnz_iso, nnz_general);
+}
