@@ -63,6 +63,17 @@ struct BlockSystem {
     }
     return v;
   }
+  /// H_s (x) I from the (0, 0) entries of m's blocks (positive definite when m is
+  /// diagonally dominant, as randomSpd makes it).
+  Eigen::MatrixXd isotropic(const Eigen::MatrixXd& m) const {
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n(), n());
+    for (int r = 0; r < nb; ++r) {
+      for (int c = 0; c < nb; ++c) {
+        for (int i = 0; i < bs; ++i) k(r * bs + i, c * bs + i) = m(r * bs, c * bs);
+      }
+    }
+    return k;
+  }
   /// A random SPD matrix with this block pattern.
   Eigen::MatrixXd randomSpd(std::mt19937& rng) const {
     std::uniform_real_distribution<double> u(-1, 1);
@@ -160,18 +171,9 @@ class Solvers_Conformance : public ::testing::TestWithParam<std::string> {
   }
   static bool jacobianForm(const LinearSolver& s) { return s.form() == SystemForm::kJacobian; }
   std::string name() const { return GetParam().substr(0, GetParam().find(':')); }
-  /// The isotropic solver takes only H = H_s (x) I: its systems are made so (H_s from the
-  /// blocks' (0, 0) entries, diagonally dominant like m, so positive definite).
-  Eigen::MatrixXd adapt(const Eigen::MatrixXd& m, int bs) const {
-    if (name() != "isotropic") return m;
-    const auto nb = m.rows() / bs;
-    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(m.rows(), m.cols());
-    for (Eigen::Index r = 0; r < nb; ++r) {
-      for (Eigen::Index c = 0; c < nb; ++c) {
-        for (int i = 0; i < bs; ++i) k(r * bs + i, c * bs + i) = m(r * bs, c * bs);
-      }
-    }
-    return k;
+  /// The isotropic solver takes only H = H_s (x) I: its systems are made so.
+  Eigen::MatrixXd adapt(const Eigen::MatrixXd& m, const BlockSystem& sys) const {
+    return name() == "isotropic" ? sys.isotropic(m) : m;
   }
 };
 
@@ -200,7 +202,7 @@ TEST_P(Solvers_Conformance, SolvesRepeatedlyWithOneAnalysis) {
     BlockSystem sys(40, 3, rng);
     ASSERT_TRUE(solver->analyze(sys.structure()).ok());
     for (int round = 0; round < 5; ++round) {
-      const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+      const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
       const auto values = sys.values(m);
       const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
       ASSERT_TRUE(solver->factorize(values.data()).ok()) << "round " << round;
@@ -220,7 +222,7 @@ TEST_P(Solvers_Conformance, RhsAndSolutionMayAlias) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "rhs (rows) and x (cols) differ in size in J form";
   BlockSystem sys(15, 3, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
   const auto values = sys.values(m);
   ASSERT_TRUE(solver->factorize(values.data()).ok());
   Eigen::VectorXd x = Eigen::VectorXd::Random(sys.n());
@@ -235,7 +237,7 @@ TEST_P(Solvers_Conformance, EntriesBelowTheDiagonalAreIgnored) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "J has no triangle to ignore";
   BlockSystem sys(10, 2, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+  const Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
   Eigen::MatrixXd garbage = m;
   garbage.triangularView<Eigen::StrictlyLower>().setConstant(1e6);
   const auto values = sys.values(garbage);
@@ -252,7 +254,7 @@ TEST_P(Solvers_Conformance, IndefiniteSystemIsAFailureNamingAColumn) {
   if (jacobianForm(*solver)) GTEST_SKIP() << "J^T J cannot be indefinite";
   BlockSystem sys(12, 3, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+  Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
   m(20, 20) = -50.0;                                         // column 20 belongs to block 6
   if (name() == "isotropic") m(18, 18) = m(19, 19) = -50.0;  // still a multiple of I
   const auto values = sys.values(m);
@@ -283,7 +285,7 @@ TEST_P(Solvers_Conformance, SingularSystemIsAFailure) {
   } else {
     BlockSystem sys(8, 3, rng);
     ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-    Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys.bs);
+    Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
     // Zero out everything touching block 3: a vertex nothing constrains.
     m.middleRows(9, 3).setZero();
     m.middleCols(9, 3).setZero();
@@ -596,12 +598,7 @@ TEST(Solvers_Isotropic, RejectsSystemsThatAreNotAMultipleOfTheIdentityPerBlock) 
   EXPECT_GE(r.column, 0);
   EXPECT_LT(r.column, sys.n());
   // Unequal diagonal entries in one block are rejected too.
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(sys.n(), sys.n());
-  for (int a = 0; a < sys.nb; ++a) {
-    for (int b = 0; b < sys.nb; ++b) {
-      for (int i = 0; i < 2; ++i) k(2 * a + i, 2 * b + i) = m(2 * a, 2 * b);
-    }
-  }
+  Eigen::MatrixXd k = sys.isotropic(m);
   const auto good = sys.values(k);
   EXPECT_TRUE(solver->factorize(good.data()).ok());
   k(7, 7) *= 1.5;  // block 3: diagonal (d, 1.5 d)
@@ -642,12 +639,7 @@ TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
   auto solver = registry.create("auto");
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
   const Eigen::MatrixXd general = sys.randomSpd(rng);
-  Eigen::MatrixXd iso_values = Eigen::MatrixXd::Zero(sys.n(), sys.n());
-  for (int a = 0; a < sys.nb; ++a) {
-    for (int b = 0; b < sys.nb; ++b) {
-      for (int i = 0; i < 2; ++i) iso_values(2 * a + i, 2 * b + i) = general(2 * a, 2 * b);
-    }
-  }
+  const Eigen::MatrixXd iso_values = sys.isotropic(general);
   const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
   const Eigen::MatrixXd& iso = iso_values;
   std::size_t nnz_general = 0, nnz_iso = 0;
