@@ -86,6 +86,7 @@ std::vector<int> amdBlocks(const BlockGraph& g) {
 }
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
+/// COLAMD on a rows x cols pattern (CSC), returns the column order.
 std::vector<int> colamdColumns(int rows, int cols, const std::vector<int>& ptr,
                                const std::vector<int>& idx) {
   const int nnz = static_cast<int>(idx.size());
