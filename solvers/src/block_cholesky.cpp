@@ -269,9 +269,6 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
   std::string name() const override { return "block-llt"; }
   Ordering ordering() const override { return ordering_; }
 
-  LinearSolverResult analyze(const SparseStructure& s) override {
-    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
-  }
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;

@@ -41,10 +41,6 @@ class CholmodSolver final : public detail::OrderedSolver {
   std::string name() const override { return name_; }
   Ordering ordering() const override { return ordering_; }
 
-  LinearSolverResult analyze(const SparseStructure& s) override {
-    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
-  }
-
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;

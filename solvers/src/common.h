@@ -96,6 +96,8 @@ inline bool dampingIsZero(const JacobianStructure& s, const double* values) {
 /// (the auto solver picks the ordering and the backend separately).
 class OrderedSolver : public LinearSolver {
  public:
+  /// analyzeOrdered() with the solver's own ordering(), computed on the block graph.
+  LinearSolverResult analyze(const SparseStructure& s) override;
   /// As analyze(), with `order` (order[k] = original column at position k) instead of
   /// the solver's own ordering; ordering() then reports `label`.
   [[nodiscard]] virtual LinearSolverResult analyzeOrdered(const SparseStructure& s,

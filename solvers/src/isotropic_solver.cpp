@@ -41,16 +41,11 @@ class IsotropicSolver final : public detail::OrderedSolver {
   std::string name() const override { return "isotropic"; }
   Ordering ordering() const override { return ordering_; }
 
-  LinearSolverResult analyze(const SparseStructure& s) override {
-    return analyzeOrdered(s, detail::orderColumns(ordering_, s), ordering_);
-  }
-
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;
     inner_.reset();
     nb_ = s.num_blocks;
-    n_ = s.n;
     d_ = nb_ > 0 ? s.block_starts[1] - s.block_starts[0] : 1;
     for (int b = 0; b < nb_; ++b) {
       if (s.block_starts[b + 1] - s.block_starts[b] != d_) {
@@ -146,7 +141,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
  private:
   Ordering ordering_;
   std::unique_ptr<detail::OrderedSolver> inner_;
-  int nb_ = 0, n_ = 0, d_ = 1;
+  int nb_ = 0, d_ = 1;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   std::vector<int> col_ptr_, row_idx_, source_, block_starts_;
   SparseStructure scalar_;

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <numeric>
 
+#include "common.h"
 #include "graphslam/core/error.h"
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
@@ -302,6 +303,10 @@ std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s) {
   }
 #endif
   return expand(orderBlockGraph(ordering, blockGraph(s)), s.block_starts, s.cols);
+}
+
+LinearSolverResult OrderedSolver::analyze(const SparseStructure& s) {
+  return analyzeOrdered(s, orderColumns(ordering(), s), ordering());
 }
 
 std::vector<int> inversePermutation(const std::vector<int>& perm) {
