@@ -24,13 +24,15 @@ namespace {
 
 constexpr const char* kSolversUsage =
     "usage: graphslam solvers INPUT [--solvers LIST|all] [--repeats N] [--at auto|optimum|input]\n"
-    "                         [--plot DIR] [--csv FILE] [--slow-max N] [--plugin LIB]...\n"
+    "                         [--init auto|global|none] [--plot DIR] [--csv FILE] [--slow-max N]\n"
+    "                         [--plugin LIB]...\n"
     "Solves the linear system of INPUT (.g2o or .npz) with every linear solver and ordering (or\n"
     "those in LIST: names, or name:ordering, comma separated) and prints, per solver and\n"
     "ordering, the median analyse / factorise / solve times of N runs, the factor's\n"
     "non-zeros, the relative residual |H dx + g| / |g| and the largest difference to a\n"
     "reference solution (SuiteSparseQR on J, else Eigen LDL^T). The system is taken at the\n"
-    "optimum (after optimising with --algorithm, at most -i iterations) or at the input's\n"
+    "optimum (after the initial guess of --init and optimising with --algorithm, at most -i\n"
+    "iterations; as graphslam optimize does) or at the input's\n"
     "estimates; auto: the input's for .npz homework files (their initial guess, so dx is the\n"
     "whole solution of a linear problem), the optimum for .g2o. With ground truth (.npz) the\n"
     "reference solution's position errors are printed. --plot DIR writes PNG pictures of the\n"
@@ -259,7 +261,7 @@ std::string fmtTime(double s) {
 }  // namespace
 
 int cmdSolvers(const std::vector<std::string>& args) {
-  std::string input, list, plot_dir, csv, at, algorithm;
+  std::string input, list, plot_dir, csv, at, algorithm, init;
   int repeats = 3, slow_max = 3000, iterations = 100, qr_max_nnz = 100000, refine = 1;
   std::vector<std::string> plugins;
   po::options_description desc("options");
@@ -270,10 +272,13 @@ int cmdSolvers(const std::vector<std::string>& args) {
       "at", po::value(&at)->default_value("auto"),
       "linearise at the optimum (optimise first), at the input's estimates, or auto")(
       "algorithm", po::value(&algorithm)->default_value("auto"),
-      "optimiser for --at optimum: auto, gn or lm")("iterations,i",
-                                                    po::value(&iterations)->default_value(100),
-                                                    "maximum iterations for --at optimum")(
-      "plot", po::value(&plot_dir), "write sparsity pictures (PNG) into this directory")(
+      "optimiser for --at optimum: auto, gn or lm")(
+      "init", po::value(&init)->default_value("auto"),
+      "initial guess for --at optimum, as in graphslam optimize: auto (global for .g2o, the "
+      "homework's for .npz), global or none (the file's estimates)")(
+      "iterations,i", po::value(&iterations)->default_value(100),
+      "maximum iterations for --at optimum")("plot", po::value(&plot_dir),
+                                             "write sparsity pictures (PNG) into this directory")(
       "csv", po::value(&csv), "write the table as CSV")(
       "slow-max", po::value(&slow_max)->default_value(3000),
       "skip dense-ldlt, dense-pinv and eigen-qr above this many unknowns (0: never skip)")(
@@ -298,6 +303,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
     throw UsageError("--at must be auto, optimum or input");
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  checkInitChoice(init);
   Registries reg;
   loadRegistries(reg, plugins);
 
@@ -337,6 +343,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
   if (at == "auto") at = in.keep_initial_guess ? "input" : "optimum";
   std::cout << "linearised at the " << (at == "input" ? "input's estimates" : "optimum") << "\n";
   if (at == "optimum") {
+    applyInitialGuess(in, graph, init, reg.solvers);
     Optimizer::Options options;
     options.max_iterations = iterations;
     if (algorithm == "gn") {

@@ -174,9 +174,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
   InputOptions input_options;
   input_options.npz_model = parseNpzModel(npz_model);
-  if (init != "auto" && init != "global" && init != "none") {
-    throw UsageError("--init must be auto, none or global, not '" + init + "'");
-  }
+  checkInitChoice(init);
   LoadedInput in;
   if (input.empty()) {
     types_slam2d::ManhattanOptions sim;
@@ -192,27 +190,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   }
   Graph& graph = in.graph;
   std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
-  if (init == "auto") {
-    init = in.keep_initial_guess ? "none" : "global";
-    if (in.keep_initial_guess) {
-      std::cout << "initialisation: none (keeping the file's initial guess; --init global "
-                   "applies to SE(2) graphs only)\n";
-    }
-  }
-  if (init == "global") {
-    // The initial guess's two linear systems get the default solver's choice of ordering
-    // and backend (large graphs need nested dissection and a supernodal factorisation).
-    const auto init_solver = reg.solvers.create("auto");
-    const auto r = types_slam2d::initializeGlobal(graph, init_solver.get());
-    if (!r.message.empty()) {
-      std::cout << "initialisation: " << r.message << "\n";
-    } else {
-      std::printf(
-          "initialisation: global, %zu poses and %zu landmarks placed in "
-          "%.4f s\n",
-          r.poses, r.landmarks, r.seconds);
-    }
-  }
+  applyInitialGuess(in, graph, init, reg.solvers);
   const auto initial_positions = positions(graph);
   const auto initial_errors = types_slam2d::positionErrors(graph, in.ground_truth);
 

@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
+#include <iostream>
 
 #include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/types_slam2d/initialization.h"
 
 namespace graphslam::apps {
 
@@ -27,6 +30,36 @@ types_slam2d::PointObservationModel parseNpzModel(const std::string& text) {
     if (text == types_slam2d::toString(m)) return m;
   }
   throw UsageError("--npz-model must be auto, linear or bearing-range, not '" + text + "'");
+}
+
+void checkInitChoice(const std::string& init) {
+  if (init != "auto" && init != "global" && init != "none") {
+    throw UsageError("--init must be auto, none or global, not '" + init + "'");
+  }
+}
+
+void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
+                       const SolverRegistry& solvers) {
+  checkInitChoice(init);
+  if (init == "auto") {
+    init = in.keep_initial_guess ? "none" : "global";
+    if (in.keep_initial_guess) {
+      std::cout << "initialisation: none (keeping the file's initial guess; --init global "
+                   "applies to SE(2) graphs only)\n";
+    }
+  }
+  if (init != "global") return;
+  // The initial guess's two linear systems get the default solver's choice of ordering
+  // and backend (large graphs need nested dissection and a supernodal factorisation).
+  const auto init_solver = solvers.create("auto");
+  const auto r = types_slam2d::initializeGlobal(graph, init_solver.get());
+  if (!r.message.empty()) {
+    std::cout << "initialisation: " << r.message << "\n";
+  } else {
+    std::printf("initialisation: global, %zu poses and %zu landmarks placed in %.4f s\n", r.poses,
+                r.landmarks, r.seconds);
+    std::fflush(stdout);
+  }
 }
 
 LoadedInput loadInput(const std::string& path, const TypeRegistry& types,

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/types_slam2d/coursework_npz.h"
 #include "graphslam/types_slam2d/point_ground_truth.h"
@@ -49,5 +50,15 @@ struct LoadedInput {
 
 /// Parses auto|linear|bearing-range; throws UsageError otherwise.
 [[nodiscard]] types_slam2d::PointObservationModel parseNpzModel(const std::string& text);
+
+/// Checks an --init value (auto|global|none); throws UsageError otherwise.
+void checkInitChoice(const std::string& init);
+
+/// The tool's initial guess, as `optimize` makes it: `init` is auto (global for .g2o
+/// inputs, the file's own estimates for inputs that keep theirs), global (SE(2)
+/// orientations, then positions, by linear least squares, solved with the "auto" solver)
+/// or none. Prints one line on what was done.
+void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
+                       const SolverRegistry& solvers);
 
 }  // namespace graphslam::apps

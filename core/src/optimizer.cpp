@@ -76,6 +76,12 @@ std::string Summary::report() const {
 using detail::Clock;
 using detail::seconds;
 
+namespace {
+/// Smallest LM damping, relative to the scale of the initial one (the largest diagonal
+/// entry of H for identity damping, 1 for diagonal damping).
+constexpr double kMinRelativeLambda = 1e-16;
+}  // namespace
+
 struct Optimizer::Impl {
   LinearSystem structure;
   std::unique_ptr<LinearSolver> solver;
@@ -270,6 +276,7 @@ Summary Optimizer::optimize() {
   im.dx.resize(static_cast<std::size_t>(n));
   double chi2 = summary.initial_chi2;
   double lambda = -1.0;  // < 0: initialise from H at the next damped iteration
+  double lambda_floor = 0.0;
   double nu = 2.0;
   // kGaussNewtonFallback takes undamped steps, accepting a temporary increase of chi2
   // (non-monotone), until `fallback_patience` steps in a row fail to beat the best chi2
@@ -308,9 +315,13 @@ Summary Optimizer::optimize() {
       double max_diag = 0.0;
       for (int i = 0; i < n; ++i) max_diag = std::max(max_diag, std::abs(im.saved_diag[i]));
       if (lambda < 0) {
-        lambda =
-            options_.initial_lambda_factor *
-            (options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0);
+        const double scale =
+            options_.damping == Options::Damping::kIdentity ? std::max(max_diag, 1e-12) : 1.0;
+        lambda = options_.initial_lambda_factor * scale;
+        // Below this the damping is lost in rounding: a lambda shrunk further by a long
+        // run of good steps would need more rejections to matter again than an iteration
+        // allows, and the optimizer would stop at a point that is not a minimum.
+        lambda_floor = kMinRelativeLambda * scale;
         nu = 2.0;
       }
       if (options_.damping == Options::Damping::kDiagonal) {
@@ -376,7 +387,8 @@ Summary Optimizer::optimize() {
       const double rho = (chi2 - new_chi2) / predicted;
       if (std::isfinite(new_chi2) && predicted > 0 && rho > 0) {
         const double a = 2.0 * rho - 1.0;
-        lambda *= std::max(options_.min_lambda_decrease, 1.0 - a * a * a);
+        lambda = std::max(lambda_floor,
+                          lambda * std::max(options_.min_lambda_decrease, 1.0 - a * a * a));
         nu = 2.0;
         accepted = true;
         break;

@@ -109,6 +109,32 @@ INSTANTIATE_TEST_SUITE_P(Public, Datasets_Regression, ::testing::ValuesIn(cases(
                            return s + (info.param.global_init ? "_default" : "_gn_from_file");
                          });
 
+// From victoria_park's own estimates the default optimizer's undamped phase ends far from
+// the optimum and Levenberg-Marquardt takes over in a long, flat valley: hundreds of good
+// steps in a row. Each shrinks lambda; without a floor it fell to 1e-23 of the diagonal,
+// where 11 doublings cannot bring the damping back, and the optimizer stopped with "no
+// decreasing step" at chi2 772207.8 (the steps were not at a minimum). With the floor it
+// goes on to converge.
+TEST(Datasets_FromFile, VictoriaParkDampingDoesNotUnderflow) {
+  Dataset data("victoria_park.g2o");
+  if (!data.present()) GTEST_SKIP() << data.missing();
+  ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
+  setLogLevel(LogLevel::kError);
+  Optimizer::Options options;
+  options.max_iterations = 300;
+  Optimizer optimizer(data.loaded.graph, data.solvers, options);
+  const Summary s = optimizer.optimize();
+  std::printf("victoria_park from the file: chi2 %.10g -> %.10g in %d iterations (%s: %s)\n",
+              s.initial_chi2, s.final_chi2, s.iterations, toString(s.status), s.message.c_str());
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  EXPECT_LT(s.final_chi2, 772207.0);
+  double smallest_lambda = 1e300;
+  for (const auto& it : s.per_iteration) {
+    if (it.lambda > 0) smallest_lambda = std::min(smallest_lambda, it.lambda);
+  }
+  EXPECT_GT(smallest_lambda, 1e-20);
+}
+
 /// Marginals of every vertex of an optimised large graph, checked on random vertices
 /// against columns of H^-1 from an independent sparse solve (Eigen's LDL^T with its own
 /// scalar AMD ordering on an independently assembled H).
