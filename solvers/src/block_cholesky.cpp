@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -71,34 +72,44 @@ class BlockCholesky final : public detail::OrderedSolver {
       pos[b] = static_cast<int>(old_.size());
       old_.push_back(b);
     }
-    // A's upper blocks per new column k: (new row i <= k, first value, stride, transposed).
-    a_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
-    a_.clear();
-    std::vector<std::vector<AEntry>> cols(static_cast<std::size_t>(nb_));
-    for (int c = 0; c < nb_; ++c) {
-      const int col0 = start_[c];
-      const int stride = s.col_ptr[col0 + 1] - s.col_ptr[col0];
-      for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
-        const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
-        const int first = p;
-        p += start_[r + 1] - start_[r];
-        const int pr = pos[r], pc = pos[c];
-        // In the new order the block is (min, max); transposed when the row moved below.
-        if (pr <= pc) {
-          cols[pc].push_back({pr, first, stride, false});
-        } else {
-          cols[pr].push_back({pc, first, stride, true});
+    // A's upper blocks per new column k: (new row i <= k, first value, stride, shape,
+    // transposed), rows ascending. Counted, then filled; each column sorted in place (a
+    // handful of blocks).
+    a_ptr_.assign(static_cast<std::size_t>(nb_) + 2, 0);
+    auto for_blocks = [&](auto&& visit) {
+      for (int c = 0; c < nb_; ++c) {
+        const int col0 = start_[c];
+        for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
+          const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
+          visit(r, c, p);
+          p += start_[r + 1] - start_[r];
         }
       }
-    }
+    };
+    for_blocks([&](int r, int c, int) { ++a_ptr_[std::max(pos[r], pos[c]) + 2]; });
+    for (int k = 0; k < nb_; ++k) a_ptr_[k + 2] += a_ptr_[k + 1];
+    a_.resize(static_cast<std::size_t>(a_ptr_[nb_ + 1]));
+    for_blocks([&](int r, int c, int p) {
+      const int pr = pos[r], pc = pos[c];
+      const auto rows = static_cast<std::int8_t>(start_[r + 1] - start_[r]);
+      const auto cols = static_cast<std::int8_t>(start_[c + 1] - start_[c]);
+      const int stride = s.col_ptr[start_[c] + 1] - s.col_ptr[start_[c]];
+      // In the new order the block is (min, max); transposed when the row moved below.
+      if (pr <= pc) {
+        a_[a_ptr_[pc + 1]++] = {pr, p, stride, rows, cols, false};
+      } else {
+        a_[a_ptr_[pr + 1]++] = {pc, p, stride, rows, cols, true};
+      }
+    });
+    a_ptr_.pop_back();
     for (int k = 0; k < nb_; ++k) {
-      auto& col = cols[k];
-      std::sort(col.begin(), col.end(),
+      std::sort(a_.begin() + a_ptr_[k], a_.begin() + a_ptr_[k + 1],
                 [](const AEntry& x, const AEntry& y) { return x.row < y.row; });
-      a_.insert(a_.end(), col.begin(), col.end());
-      a_ptr_[k + 1] = static_cast<int>(a_.size());
     }
-    // Elimination tree and the row patterns of L (row subtrees), rows ascending.
+    // Elimination tree and the row patterns of L (row subtrees) in a topological order:
+    // every path up the tree is stacked in front of those found before it (which it ends
+    // in), so each row i comes after every row below it in the tree, as the up-looking
+    // factorisation needs; no sort.
     const std::vector<int> parent = detail::eliminationTree(nb_, [&](int k, auto&& visit) {
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) visit(a_[q].row);
     });
@@ -106,19 +117,20 @@ class BlockCholesky final : public detail::OrderedSolver {
     row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
     row_idx_.clear();
     std::vector<int> count(static_cast<std::size_t>(nb_), 0);  // off-diagonal blocks per column
-    std::vector<int> row;
+    std::vector<int> stack(static_cast<std::size_t>(nb_)), path(static_cast<std::size_t>(nb_));
     for (int k = 0; k < nb_; ++k) {
       flag[k] = k;
-      row.clear();
+      int top = nb_;
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
+        int len = 0;
         for (int i = a_[q].row; i < k && flag[i] != k; i = parent[i]) {
           flag[i] = k;
-          row.push_back(i);
+          path[len++] = i;
         }
+        while (len > 0) stack[--top] = path[--len];
       }
-      std::sort(row.begin(), row.end());
-      for (int i : row) ++count[i];
-      row_idx_.insert(row_idx_.end(), row.begin(), row.end());
+      for (int t = top; t < nb_; ++t) ++count[stack[t]];
+      row_idx_.insert(row_idx_.end(), stack.begin() + top, stack.end());
       row_ptr_[k + 1] = static_cast<int>(row_idx_.size());
     }
     // Column storage: column i = diagonal block then count[i] blocks; entry of (k, i) in
@@ -136,9 +148,13 @@ class BlockCholesky final : public detail::OrderedSolver {
         col_row_[next[i]++] = k;
       }
     }
-    values_.assign(static_cast<std::size_t>(col_ptr_[nb_]), Block::Zero());
-    work_.assign(static_cast<std::size_t>(nb_), Block::Zero());
-    inverse_.assign(static_cast<std::size_t>(nb_), Block::Zero());
+    // Every entry is written before it is read (factorize): no initialisation.
+    values_.clear();
+    values_.resize(static_cast<std::size_t>(col_ptr_[nb_]));
+    work_.clear();
+    work_.resize(static_cast<std::size_t>(nb_));
+    inverse_.clear();
+    inverse_.resize(static_cast<std::size_t>(nb_));
     return LinearSolverResult::success();
   }
 
@@ -157,12 +173,12 @@ class BlockCholesky final : public detail::OrderedSolver {
           blk = Eigen::Map<const Block, 0, Eigen::OuterStride<>>(h + e.first,
                                                                  Eigen::OuterStride<>(e.stride));
         } else {
-          // H's block (r, c) is d_r x d_c; padded with zeros (unit diagonal: below).
-          const int dr = e.transposed ? dk : dim(old_[e.row]);
-          const int dc = e.transposed ? dim(old_[e.row]) : dk;
+          // H's block (r, c) is rows x cols; padded with zeros (unit diagonal: below).
           blk.setZero();
-          blk.topLeftCorner(dr, dc) = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>(
-              h + e.first, dr, dc, Eigen::OuterStride<>(e.stride));
+          const double* src = h + e.first;
+          for (int j = 0; j < e.cols; ++j) {
+            for (int i = 0; i < e.rows; ++i) blk(i, j) = src[i + j * e.stride];
+          }
         }
         if (e.row == k) {
           diag = blk.template selfadjointView<Eigen::Upper>();
@@ -242,8 +258,9 @@ class BlockCholesky final : public detail::OrderedSolver {
 
   struct AEntry {
     int row;
-    int first;  // H value of the block's (0, 0)
-    int stride;
+    int first;               // H value of the block's (0, 0)
+    int stride;              // H values between its columns
+    std::int8_t rows, cols;  // H's block (r, c) is rows x cols
     bool transposed;
   };
 
