@@ -19,6 +19,7 @@ namespace graphslam::solvers {
 std::unique_ptr<detail::OrderedSolver> makeEigenLdlt();
 std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
 std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
+std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering);
 int maxBlockSize(const SparseStructure& s);
 
 namespace {
@@ -69,10 +70,15 @@ class AutoSolver final : public LinearSolver {
     structure_ = s;
     label_ = label;
     isotropic_.reset();
-    use_isotropic_ = false;
-    // Vertices of one dimension d > 1: values of the form H_s (x) I_d take the scalar path.
+    conformal_.reset();
+    active_ = nullptr;
+    // Vertices of one dimension d > 1: values of the form H_s (x) I_d take the scalar path,
+    // and for d = 2 blocks [a -b; b a] the complex one.
     may_be_isotropic_ = s.num_blocks > 0 && s.block_starts[1] - s.block_starts[0] > 1 &&
                         maxBlockSize(s) == s.block_starts[1] - s.block_starts[0];
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+    may_be_conformal_ = may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2;
+#endif
     if (may_be_isotropic_) order_ = chosen.perm;
     return backend_->analyzeOrdered(s, std::move(chosen.perm), label);
   }
@@ -82,17 +88,14 @@ class AutoSolver final : public LinearSolver {
     // H = H_s (x) I_d (linear SLAM with isotropic noise, the positions of the SE(2)
     // initial guess) is factorised as H_s: d^3 fewer flops. The test stops at the first
     // block that is not a multiple of I (at once for SE(2) poses).
-    use_isotropic_ = may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0;
-    if (use_isotropic_) {
-      if (!isotropic_) {
-        isotropic_ = makeIsotropicSolver(label_);
-        const LinearSolverResult r = isotropic_->analyzeOrdered(structure_, order_, label_);
-        if (!r.ok()) {
-          isotropic_.reset();
-          return r;
-        }
-      }
-      return isotropic_->factorize(values);
+    // Blocks [a -b; b a] (the orientations of the SE(2) initial guess) are a Hermitian
+    // complex matrix: half the flops and half the memory of the 2x2 block factor.
+    active_ = nullptr;
+    if (may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0) {
+      return factorizeScalar(isotropic_, makeIsotropicSolver, values);
+    }
+    if (may_be_conformal_ && detail::firstNonConformalColumn(structure_, values) < 0) {
+      return factorizeScalar(conformal_, makeConformalSolver, values);
     }
     return backend_->factorize(values);
   }
@@ -106,19 +109,36 @@ class AutoSolver final : public LinearSolver {
   }
 
  private:
-  [[nodiscard]] LinearSolver& active() const {
-    return use_isotropic_ && isotropic_ ? *isotropic_ : *backend_;
+  [[nodiscard]] LinearSolver& active() const { return active_ ? *active_ : *backend_; }
+
+  /// Factorises with `solver`, made and analysed with auto's ordering on first use.
+  template <typename Make>
+  LinearSolverResult factorizeScalar(std::unique_ptr<detail::OrderedSolver>& solver, Make make,
+                                     const double* values) {
+    if (!solver) {
+      solver = make(label_);
+      const LinearSolverResult r = solver->analyzeOrdered(structure_, order_, label_);
+      if (!r.ok()) {
+        solver.reset();
+        return r;
+      }
+    }
+    active_ = solver.get();
+    return solver->factorize(values);
   }
 
   std::string name_ = "auto";
   std::unique_ptr<detail::OrderedSolver> backend_;
-  // The scalar path for isotropic values, analysed on first use with the same ordering.
+  // The scalar and complex paths for isotropic and conformal values, analysed on first
+  // use with the same ordering; active_ is the one of the last factorisation (none: the
+  // backend).
   SparseStructure structure_;
   Ordering label_ = Ordering::kDefault;
   std::vector<int> order_;
   bool may_be_isotropic_ = false;
-  bool use_isotropic_ = false;
-  std::unique_ptr<detail::OrderedSolver> isotropic_;
+  bool may_be_conformal_ = false;
+  std::unique_ptr<detail::OrderedSolver> isotropic_, conformal_;
+  LinearSolver* active_ = nullptr;
 };
 
 }  // namespace

@@ -17,11 +17,17 @@ namespace {
 
 /// CHOLMOD Cholesky (supernodal or simplicial LL^T) with an ordering computed on the
 /// block graph and given to CHOLMOD. H is passed without copying: the cholmod_sparse header points
-/// at the optimizer's CSC arrays (upper triangle, stype = 1).
+/// at the optimizer's CSC arrays (upper triangle, stype = 1). A complex solver takes a
+/// Hermitian matrix: values, right-hand side and solution are interleaved complex numbers
+/// (re, im), two doubles per entry of the pattern and per unknown.
 class CholmodSolver final : public detail::OrderedSolver {
  public:
-  CholmodSolver(std::string name, bool supernodal, Ordering ordering)
-      : name_(std::move(name)), supernodal_(supernodal), ordering_(ordering) {
+  CholmodSolver(std::string name, bool supernodal, Ordering ordering, bool complex = false)
+      : name_(std::move(name)),
+        supernodal_(supernodal),
+        ordering_(ordering),
+        xtype_(complex ? CHOLMOD_COMPLEX : CHOLMOD_REAL),
+        scalars_(complex ? 2 : 1) {
     cholmod_start(&common_);
     common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
@@ -67,13 +73,13 @@ class CholmodSolver final : public detail::OrderedSolver {
           LinearSolverStatus::kFailure,
           "cholmod_analyze failed (status " + std::to_string(common_.status) + ")");
     }
-    b_ = cholmod_allocate_dense(a_.nrow, 1, a_.nrow, CHOLMOD_REAL, &common_);
+    b_ = cholmod_allocate_dense(a_.nrow, 1, a_.nrow, xtype_, &common_);
     return LinearSolverResult::success();
   }
 
   LinearSolverResult factorize(const double* values) override {
     if (!factor_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    a_.xtype = CHOLMOD_REAL;
+    a_.xtype = xtype_;
     a_.x = const_cast<double*>(values);  // read only
     int ok = 0;
     {
@@ -100,7 +106,8 @@ class CholmodSolver final : public detail::OrderedSolver {
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!factor_ || !b_)
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
-    std::memcpy(b_->x, rhs, sizeof(double) * static_cast<std::size_t>(n_));
+    const std::size_t len = static_cast<std::size_t>(n_) * static_cast<std::size_t>(scalars_);
+    std::memcpy(b_->x, rhs, sizeof(double) * len);
     const detail::SerialOpenMp serial;
     const int ok =
         cholmod_solve2(CHOLMOD_A, factor_, b_, nullptr, &x_, nullptr, &y_, &e_, &common_);
@@ -108,7 +115,7 @@ class CholmodSolver final : public detail::OrderedSolver {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "cholmod_solve failed");
     }
     const double* sol = static_cast<const double*>(x_->x);
-    for (int i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < len; ++i) {
       if (!std::isfinite(sol[i])) {
         return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
       }
@@ -168,6 +175,8 @@ class CholmodSolver final : public detail::OrderedSolver {
   std::string name_;
   bool supernodal_;
   Ordering ordering_;
+  int xtype_;                        // CHOLMOD_REAL or CHOLMOD_COMPLEX
+  int scalars_;                      // doubles per value
   mutable cholmod_common common_{};  // CHOLMOD statistics change in const queries
   cholmod_sparse a_{};
   cholmod_factor* factor_ = nullptr;
@@ -184,6 +193,11 @@ class CholmodSolver final : public detail::OrderedSolver {
 std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering) {
   return std::make_unique<CholmodSolver>(supernodal ? "cholmod" : "cholmod-simplicial", supernodal,
                                          ordering);
+}
+
+std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal,
+                                                                Ordering ordering) {
+  return std::make_unique<CholmodSolver>("cholmod-complex", supernodal, ordering, true);
 }
 
 }  // namespace graphslam::solvers

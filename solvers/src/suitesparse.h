@@ -10,6 +10,9 @@
 namespace graphslam::solvers {
 
 std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering);
+/// CHOLMOD on a Hermitian matrix: values, right-hand side and solution interleaved
+/// complex (two doubles each); the structure counts complex entries and unknowns.
+std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering);
 std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);

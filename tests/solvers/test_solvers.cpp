@@ -74,6 +74,23 @@ struct BlockSystem {
     }
     return k;
   }
+  /// The real form of a Hermitian complex matrix (2x2 blocks [a -b; b a], a from m's
+  /// block (0, 0), b from its (1, 0); diagonal blocks a I), made diagonally dominant.
+  Eigen::MatrixXd conformal(const Eigen::MatrixXd& m) const {
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n(), n());
+    Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(nb);
+    for (const auto& [rb, cb] : blocks) {
+      if (rb == cb) continue;
+      const double a = m(rb * 2, cb * 2), b = m(rb * 2 + 1, cb * 2);
+      k.block<2, 2>(rb * 2, cb * 2) << a, -b, b, a;
+      k.block<2, 2>(cb * 2, rb * 2) = k.block<2, 2>(rb * 2, cb * 2).transpose();
+      row_sum[rb] += std::abs(a) + std::abs(b);
+      row_sum[cb] += std::abs(a) + std::abs(b);
+    }
+    for (int b = 0; b < nb; ++b)
+      k.block<2, 2>(b * 2, b * 2) = (row_sum[b] + 1.0) * Eigen::Matrix2d::Identity();
+    return k;
+  }
   /// A random SPD matrix with this block pattern.
   Eigen::MatrixXd randomSpd(std::mt19937& rng) const {
     std::uniform_real_distribution<double> u(-1, 1);
@@ -631,27 +648,68 @@ TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
   EXPECT_NE(r.message.find("same dimension"), std::string::npos) << r.message;
 }
 
-TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
-  SolverRegistry registry;
-  solvers::registerSolvers(registry);
-  std::mt19937 rng(41);
-  BlockSystem sys(30, 2, rng);
-  auto solver = registry.create("auto");
-  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const Eigen::MatrixXd general = sys.randomSpd(rng);
-  const Eigen::MatrixXd iso_values = sys.isotropic(general);
+/// Factorises and solves each matrix in turn on one analysis of `sys`; each solution must
+/// be exact for its own matrix. Returns factorNonZeros() after each.
+std::vector<std::size_t> solveInTurn(LinearSolver& solver, const BlockSystem& sys,
+                                     std::initializer_list<const Eigen::MatrixXd*> matrices) {
   const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
-  const Eigen::MatrixXd& iso = iso_values;
-  std::size_t nnz_general = 0, nnz_iso = 0;
-  // Alternating values on one analysis: each solve must be exact for its own matrix.
-  for (const Eigen::MatrixXd* m : {&general, &iso, &general, &iso}) {
+  std::vector<std::size_t> nnz;
+  for (const Eigen::MatrixXd* m : matrices) {
     const auto values = sys.values(*m);
-    ASSERT_TRUE(solver->factorize(values.data()).ok());
+    EXPECT_TRUE(solver.factorize(values.data()).ok());
     Eigen::VectorXd x(sys.n());
-    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+    EXPECT_TRUE(solver.solve(rhs.data(), x.data()).ok());
     EXPECT_LT((*m * x - rhs).norm(), 1e-10 * rhs.norm());
-    (m == &iso ? nnz_iso : nnz_general) = solver->factorNonZeros();
+    EXPECT_LT((x - m->ldlt().solve(rhs)).cwiseAbs().maxCoeff(), 1e-10);
+    nnz.push_back(solver.factorNonZeros());
   }
+  return nnz;
+}
+
+/// `auto` analysed on a random pattern of 30 vertices of dimension 2, and a random SPD
+/// matrix in that pattern.
+struct AutoOnPairs {
+  SolverRegistry registry;
+  std::mt19937 rng;
+  BlockSystem sys;
+  std::unique_ptr<LinearSolver> solver;
+  Eigen::MatrixXd general;
+
+  explicit AutoOnPairs(unsigned seed) : rng(seed), sys(30, 2, rng) {
+    solvers::registerSolvers(registry);
+    solver = registry.create("auto");
+    EXPECT_TRUE(solver->analyze(sys.structure()).ok());
+    general = sys.randomSpd(rng);
+  }
+};
+
+TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
+  AutoOnPairs t(41);
+  const Eigen::MatrixXd iso = t.sys.isotropic(t.general);
+  const auto nnz = solveInTurn(*t.solver, t.sys, {&t.general, &iso, &t.general, &iso});
   // L = L_s (x) I_2 stores d entries per non-zero of L_s, the block factor d^2 per block.
-  EXPECT_LT(nnz_iso, nnz_general);
+  EXPECT_LT(nnz[1], nnz[0]);
+  EXPECT_LT(nnz[3], nnz[2]);
+}
+
+TEST(Solvers_Auto, ConformalValuesTakeTheComplexPath) {
+  AutoOnPairs t(43);
+  const BlockSystem& sys = t.sys;
+  const Eigen::MatrixXd conf = sys.conformal(t.general);
+  const Eigen::MatrixXd iso = sys.isotropic(t.general);
+  (void)solveInTurn(*t.solver, sys, {&conf, &t.general, &conf, &iso, &conf});
+  // The complex path reports a failed pivot as CHOLMOD does, at the vertex's first column;
+  // the block path would say "non-positive pivot block".
+  Eigen::MatrixXd bad = conf;
+  bad.block<2, 2>(12, 12) = -50.0 * Eigen::Matrix2d::Identity();
+  const auto values = sys.values(bad);
+  const LinearSolverResult r = t.solver->factorize(values.data());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
+  if (t.registry.contains("cholmod")) {  // the complex path needs CHOLMOD
+    EXPECT_NE(r.message.find("matrix is not positive definite"), std::string::npos) << r.message;
+    EXPECT_EQ(r.column % 2, 0);
+  }
+  EXPECT_GE(r.column, 0);
+  EXPECT_LT(r.column, sys.n());
 }
