@@ -199,7 +199,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
   options.callback = [&](const IterationStats& s) {
     if (!quiet) {
       std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
-                  s.chi2, s.lambda, s.step_norm, s.time.total(), s.accepted ? "" : "  (rejected)");
+                  s.chi2, s.lambda, s.step_norm, s.time.total(),
+                  s.accepted ? (s.attempts == 0 ? "  (chord step: previous factorisation)" : "")
+                             : "  (rejected)");
       std::fflush(stdout);
     }
     csv.push_back(csvLine(s));

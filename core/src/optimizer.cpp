@@ -80,6 +80,9 @@ namespace {
 /// Smallest LM damping, relative to the scale of the initial one (the largest diagonal
 /// entry of H for identity damping, 1 for diagonal damping).
 constexpr double kMinRelativeLambda = 1e-16;
+/// A Gauss-Newton step that lowered chi2 by less than this fraction is followed by a
+/// chord step (the last factorisation reused) before a new factorisation.
+constexpr double kChordTrigger = 1e-4;
 }  // namespace
 
 struct Optimizer::Impl {
@@ -285,6 +288,11 @@ Summary Optimizer::optimize() {
   bool damped = options_.algorithm == Algorithm::kLevenbergMarquardt;
   double best_chi2 = chi2;
   int non_improving = 0;
+  // Chord steps (the default algorithm's undamped phase only; kGaussNewton stays plain
+  // Gauss-Newton): the solver holds the factorisation of the last undamped step, which
+  // lowered chi2 by last_decrease.
+  bool chord_ready = false;
+  double last_decrease = 0.0;
   std::vector<double> best_state;
   summary.status = TerminationStatus::kMaxIterations;
 
@@ -335,12 +343,29 @@ Summary Optimizer::optimize() {
       im.saveState(best_state);
     }
 
-    bool accepted = false;
+    // Near convergence H hardly changes between Gauss-Newton steps: the factorisation of
+    // the last one gives a step (a chord step) almost as good, for the price of a solve.
+    // It is the iteration's step when it lowers chi2 (the next iteration factorises
+    // again); otherwise it is undone and the iteration goes on as usual.
+    bool chord = false;
+    double chord_chi2 = chi2;
+    if (chord_ready && last_decrease < kChordTrigger * chi2) {
+      const auto ts = Clock::now();
+      if (im.solve().ok()) {
+        im.applyUpdate();
+        chord_chi2 = im.evalChi2(graph_);
+        chord = chord_chi2 < chi2 || (chord_chi2 == chi2 && chi2 == 0.0);
+        if (!chord) im.undoUpdate();
+      }
+      st.time.solve += seconds(ts, Clock::now());
+    }
+
+    bool accepted = chord;
     bool stop = false;
-    double new_chi2 = chi2;
+    double new_chi2 = chord ? chord_chi2 : chi2;
     int attempts = 0;
     double used_lambda = 0.0;
-    while (true) {
+    while (!chord) {
       ++attempts;
       used_lambda = damped ? lambda : 0.0;
       auto tf0 = Clock::now();
@@ -438,6 +463,9 @@ Summary Optimizer::optimize() {
     summary.iterations = it;
     const double old_chi2 = chi2;
     chi2 = new_chi2;
+    chord_ready = fallback && !damped && !im.jacobian_form && accepted && attempts == 1 &&
+                  options_.function_tolerance > 0 && new_chi2 <= old_chi2;
+    last_decrease = old_chi2 - new_chi2;
     if (options_.callback) options_.callback(st);
     if (stop) break;
     const bool small_change =

@@ -545,3 +545,35 @@ TEST(Core_LinearSystem, ParallelLinearisationMatchesSerialPerEdge) {
 }
 
 }  // namespace
+
+// Near convergence the default algorithm reuses the last Gauss-Newton factorisation for
+// one step (a chord step); it must end where plain Gauss-Newton ends, with fewer
+// factorisations, and plain Gauss-Newton must factorise at every iteration.
+TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
+  auto solvers = allSolvers();
+  types_slam2d::ManhattanOptions sim;
+  sim.num_poses = 1500;
+  auto run = [&](Algorithm algorithm) {
+    Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
+    g.vertex(0)->setFixed(true);
+    Optimizer::Options opt;
+    opt.algorithm = algorithm;
+    Optimizer optimizer(g, solvers, opt);
+    return optimizer.optimize();
+  };
+  const Summary fallback = run(Algorithm::kGaussNewtonFallback);
+  const Summary gn = run(Algorithm::kGaussNewton);
+  ASSERT_EQ(fallback.status, TerminationStatus::kConverged) << fallback.message;
+  ASSERT_EQ(gn.status, TerminationStatus::kConverged) << gn.message;
+  auto factorisations = [](const Summary& s) {
+    int n = 0;
+    for (const auto& it : s.per_iteration) n += it.attempts;
+    return n;
+  };
+  for (const auto& it : gn.per_iteration) EXPECT_GE(it.attempts, 1) << "iteration " << it.iteration;
+  EXPECT_EQ(fallback.per_iteration.back().attempts, 0);  // the converging step was a chord
+  EXPECT_LT(factorisations(fallback), factorisations(gn));
+  EXPECT_NEAR(fallback.final_chi2, gn.final_chi2, 1e-8 * gn.final_chi2);
+  std::printf("chi2 %.10g (default, %d factorisations) and %.10g (gn, %d)\n", fallback.final_chi2,
+              factorisations(fallback), gn.final_chi2, factorisations(gn));
+}

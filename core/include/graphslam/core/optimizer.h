@@ -14,8 +14,11 @@ namespace graphslam {
 enum class Algorithm {
   kGaussNewton,         ///< undamped steps, always accepted
   kLevenbergMarquardt,  ///< damped steps, Nielsen's lambda update (as g2o)
-  /// Gauss-Newton steps while they lower chi2; a step that does not is retried with LM
-  /// damping, which then decays back to zero (Gauss-Newton with a trust-region fallback).
+  /// The default. Gauss-Newton steps, accepted even when chi2 rises for a while (up to
+  /// Options::fallback_patience steps in a row without a new best); then back to the best
+  /// estimate, and Levenberg-Marquardt from there. Near convergence (a step that lowered
+  /// chi2 by less than 1e-4 of it) the next step first reuses the last factorisation (a
+  /// chord step), kept when it lowers chi2; the step after it factorises again.
   kGaussNewtonFallback,
 };
 
@@ -48,8 +51,10 @@ struct IterationStats {
   double chi2 = 0.0;       ///< after the iteration's (accepted) step
   double lambda = 0.0;     ///< damping used by the accepted step (0 for Gauss-Newton)
   double step_norm = 0.0;  ///< Euclidean norm of the accepted update
-  int attempts = 1;        ///< factorisations this iteration (LM retries on rejection)
-  bool accepted = true;    ///< false when LM found no decreasing step
+  /// Factorisations this iteration (LM retries on rejection); 0 for a chord step, which
+  /// reused the previous Gauss-Newton step's factorisation.
+  int attempts = 1;
+  bool accepted = true;  ///< false when LM found no decreasing step
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
 };
