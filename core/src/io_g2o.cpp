@@ -24,18 +24,23 @@ struct LineError {
   std::string message;
 };
 
-std::vector<std::string_view> tokenize(std::string_view line) {
-  std::vector<std::string_view> tokens;
+/// The C locale's white space (std::isspace without the locale lookup per character).
+constexpr bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/// Splits `line` at white space into `tokens` (cleared first; its storage is reused).
+void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
   std::size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && isSpace(line[i])) ++i;
     if (i >= line.size()) break;
     std::size_t j = i;
-    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    while (j < line.size() && !isSpace(line[j])) ++j;
     tokens.push_back(line.substr(i, j - i));
     i = j;
   }
-  return tokens;
 }
 
 std::string quote(std::string_view token) { return "'" + std::string(token) + "'"; }
@@ -80,10 +85,10 @@ class Reader {
       ++line_no;
       std::string_view view(line);
       if (auto hash = view.find('#'); hash != std::string_view::npos) view = view.substr(0, hash);
-      const auto tokens = tokenize(view);
-      if (tokens.empty()) continue;
+      tokenize(view, tokens_);
+      if (tokens_.empty()) continue;
       try {
-        handleLine(tokens, line_no);
+        handleLine(tokens_, line_no);
       } catch (const LineError& err) {
         if (!report(line_no, err.message)) return std::move(result_);
       }
@@ -168,7 +173,7 @@ class Reader {
       }
       num_ids = found - meas - info;
     }
-    std::vector<VertexId> ids(num_ids);
+    std::vector<VertexId> ids(num_ids);  // moved into the edge
     for (std::size_t i = 0; i < num_ids; ++i) ids[i] = parseId(tokens[1 + i], 1 + i, tag);
     values_.resize(meas + info);
     for (std::size_t i = 0; i < meas + info; ++i) {
@@ -180,7 +185,8 @@ class Reader {
                         ", which is not defined before this line"};
       }
     }
-    Eigen::MatrixXd omega(d, d);
+    Eigen::MatrixXd& omega = omega_;  // storage reused from line to line
+    omega.resize(d, d);
     std::size_t k = meas;
     for (int r = 0; r < d; ++r) {
       for (int c = r; c < d; ++c) {
@@ -189,8 +195,7 @@ class Reader {
         ++k;
       }
     }
-    Eigen::LLT<Eigen::MatrixXd> llt(omega);
-    if (llt.info() != Eigen::Success) {
+    if (llt_.compute(omega).info() != Eigen::Success) {
       throw LineError{tag + ": information matrix is not positive definite"};
     }
     e->setVertexIds(std::move(ids));
@@ -227,6 +232,9 @@ class Reader {
   LoadOptions options_;
   LoadResult result_;
   std::vector<double> values_;
+  std::vector<std::string_view> tokens_;
+  Eigen::MatrixXd omega_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
   std::unordered_map<VertexId, int> vertex_lines_;
   std::vector<std::pair<int, VertexId>> fixes_;
 };
