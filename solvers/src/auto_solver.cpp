@@ -2,6 +2,7 @@
 // The default solver: picks the ordering and the backend from the predicted cost of the
 // factorisation (symbolic analysis on the block graph).
 #include <cstdio>
+#include <future>
 #include <memory>
 #include <string>
 
@@ -156,20 +157,36 @@ ChosenOrdering chooseOrdering(const SparseStructure& s) {
   // Above this many predicted flops with AMD, METIS is tried as well (it costs about as
   // much as one factorisation of a few 1e7 flops and pays only on larger graphs).
   constexpr double kTryMetisFlops = 2e8;
+  // From this many blocks on METIS is computed next to AMD, on a second thread.
+  constexpr int kConcurrentOrderingBlocks = 200000;
   const detail::BlockGraph g = detail::blockGraph(s);  // one graph for every prediction
   auto predict = [&](const std::vector<int>& perm) {
     const detail::SymbolicCost c = detail::symbolicCost(s, g, perm);
     return CholeskyPrediction{c.factor_nonzeros, c.flops};
   };
   ChosenOrdering chosen;
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+  auto metis = [&] {
+    ChosenOrdering m;
+    m.ordering = Ordering::kMetis;
+    m.perm = detail::orderColumns(Ordering::kMetis, s, g);
+    m.prediction = predict(m.perm);
+    return m;
+  };
+  // Graphs this large always need METIS as well (AMD predicts far more than
+  // kTryMetisFlops): both orderings are serial codes, so they run side by side.
+  std::future<ChosenOrdering> metis_ahead;
+  if (g.num_blocks >= kConcurrentOrderingBlocks) {
+    metis_ahead = std::async(std::launch::async, metis);
+  }
+#endif
   chosen.perm = detail::orderColumns(Ordering::kAmd, s, g);
   chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-  if (chosen.prediction.flops > kTryMetisFlops) {
-    std::vector<int> metis = detail::orderColumns(Ordering::kMetis, s, g);
-    const CholeskyPrediction metis_cost = predict(metis);
-    if (metis_cost.flops < chosen.prediction.flops) {
-      chosen = {Ordering::kMetis, std::move(metis), metis_cost};
+  if (metis_ahead.valid() || chosen.prediction.flops > kTryMetisFlops) {
+    ChosenOrdering m = metis_ahead.valid() ? metis_ahead.get() : metis();
+    if (chosen.prediction.flops > kTryMetisFlops && m.prediction.flops < chosen.prediction.flops) {
+      chosen = std::move(m);
     }
   }
 #endif

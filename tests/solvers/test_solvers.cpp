@@ -713,3 +713,51 @@ TEST(Solvers_Auto, ConformalValuesTakeTheComplexPath) {
   EXPECT_GE(r.column, 0);
   EXPECT_LT(r.column, sys.n());
 }
+
+/// The upper CSC pattern of a side x side grid graph (one scalar unknown per node,
+/// 4-neighbours), with its diagonal.
+struct GridPattern {
+  std::vector<int> col_ptr{0}, row_idx, block_starts;
+  SparseStructure structure;
+
+  explicit GridPattern(int side) {
+    const int n = side * side;
+    for (int c = 0; c < n; ++c) {
+      if (c - side >= 0) row_idx.push_back(c - side);
+      if (c % side > 0) row_idx.push_back(c - 1);
+      row_idx.push_back(c);
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+    for (int b = 0; b <= n; ++b) block_starts.push_back(b);
+    structure.n = n;
+    structure.col_ptr = col_ptr.data();
+    structure.row_idx = row_idx.data();
+    structure.block_starts = block_starts.data();
+    structure.num_blocks = n;
+  }
+};
+
+// auto's ordering: METIS is tried when AMD predicts more than 2e8 flops and kept when it
+// predicts fewer; from 200000 blocks on it is computed on a second thread next to AMD. Both
+// paths must choose as the rule says (grids: nested dissection wins).
+TEST(Solvers_ChooseOrdering, MetisWinsOnLargeGridsSequentialAndConcurrent) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  if (!registry.contains("cholmod")) GTEST_SKIP() << "METIS needs CHOLMOD";
+  for (int side : {300, 480}) {  // 90000 blocks (sequential), 230400 (concurrent)
+    const GridPattern grid(side);
+    const SparseStructure& s = grid.structure;
+    const solvers::ChosenOrdering chosen = solvers::chooseOrdering(s);
+    const solvers::CholeskyPrediction amd =
+        solvers::predictCholesky(s, solvers::fillReducingOrdering(Ordering::kAmd, s));
+    const std::vector<int> metis_perm = solvers::fillReducingOrdering(Ordering::kMetis, s);
+    const solvers::CholeskyPrediction metis = solvers::predictCholesky(s, metis_perm);
+    std::printf("grid %d x %d: AMD %.3g flops, METIS %.3g flops\n", side, side, amd.flops,
+                metis.flops);
+    ASSERT_GT(amd.flops, 2e8);
+    ASSERT_LT(metis.flops, amd.flops);
+    EXPECT_EQ(chosen.ordering, Ordering::kMetis) << side;
+    EXPECT_EQ(chosen.perm, metis_perm) << side;
+    EXPECT_EQ(chosen.prediction.flops, metis.flops) << side;
+  }
+}
