@@ -22,105 +22,129 @@ namespace graphslam::types_slam2d {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
-using Triplets = std::vector<Eigen::Triplet<double>>;
 
-struct PoseNode {
-  VertexSE2* vertex;
-  std::vector<std::pair<const EdgeSE2*, int>> links;  // edge, index of the other pose
-  bool anchored = false;                              // fixed vertex or prior
+/// A symmetric linear system over `n` variables of dimension 2, assembled straight into
+/// the linear solver interface's form: upper triangle in CSC, every stored 2x2 block
+/// complete (diagonal blocks full). The pattern holds every diagonal block and the blocks
+/// of the given pairs of variables.
+class PairSystem {
+ public:
+  PairSystem(int n, const std::vector<std::pair<int, int>>& pairs) : n_(n) {
+    // Row blocks of each block column: the column itself and every pair partner below.
+    std::vector<int> count(static_cast<std::size_t>(n) + 1, 0);
+    for (const auto& [a, b] : pairs) ++count[std::max(a, b) + 1];
+    for (int c = 0; c < n; ++c) count[c + 1] += count[c] + 1;
+    block_ptr_.assign(count.begin(), count.end());
+    block_row_.resize(static_cast<std::size_t>(block_ptr_[n]));
+    std::vector<int> next(block_ptr_.begin(), block_ptr_.end() - 1);
+    for (int c = 0; c < n; ++c) block_row_[next[c]++] = c;
+    for (const auto& [a, b] : pairs) block_row_[next[std::max(a, b)]++] = std::min(a, b);
+    // Sorted and without repeats (several edges between two poses), compacted in place.
+    int out = 0;
+    for (int c = 0; c < n; ++c) {
+      const auto first = block_row_.begin() + block_ptr_[c];
+      const auto last = block_row_.begin() + block_ptr_[c + 1];
+      std::sort(first, last);
+      const auto end = std::unique(first, last);
+      block_ptr_[c] = out;
+      for (auto it = first; it != end; ++it) block_row_[out++] = *it;
+    }
+    block_ptr_[n] = out;
+    block_row_.resize(static_cast<std::size_t>(out));
+    col_ptr_.assign(2 * static_cast<std::size_t>(n) + 1, 0);
+    row_idx_.reserve(4 * static_cast<std::size_t>(out));
+    for (int c = 0; c < n; ++c) {
+      for (int j = 0; j < 2; ++j) {
+        for (int k = block_ptr_[c]; k < block_ptr_[c + 1]; ++k) {
+          row_idx_.push_back(2 * block_row_[k]);
+          row_idx_.push_back(2 * block_row_[k] + 1);
+        }
+        col_ptr_[2 * c + j + 1] = static_cast<int>(row_idx_.size());
+      }
+    }
+    values_.assign(row_idx_.size(), 0.0);
+    rhs_ = Eigen::VectorXd::Zero(2 * n);
+  }
+
+  /// Adds m to the block of variables (r, c) (and so m^T to (c, r)).
+  void add(int r, int c, const Eigen::Matrix2d& m) {
+    if (r > c) {
+      add(c, r, m.transpose());
+      return;
+    }
+    const auto first = block_row_.begin() + block_ptr_[c];
+    const auto k = std::lower_bound(first, block_row_.begin() + block_ptr_[c + 1], r) - first;
+    const int stride = col_ptr_[2 * c + 1] - col_ptr_[2 * c];
+    double* v = values_.data() + col_ptr_[2 * c] + 2 * k;
+    v[0] += m(0, 0);
+    v[1] += m(1, 0);
+    v[stride] += m(0, 1);
+    v[stride + 1] += m(1, 1);
+  }
+  Eigen::VectorXd& rhs() { return rhs_; }
+  [[nodiscard]] const Eigen::VectorXd& rhs() const { return rhs_; }
+  [[nodiscard]] int unknowns() const { return 2 * n_; }
+  [[nodiscard]] const std::vector<int>& colPtr() const { return col_ptr_; }
+  [[nodiscard]] const std::vector<int>& rowIdx() const { return row_idx_; }
+  [[nodiscard]] const std::vector<double>& values() const { return values_; }
+
+ private:
+  int n_;
+  std::vector<int> block_ptr_, block_row_;  // block pattern (upper, rows sorted)
+  std::vector<int> col_ptr_, row_idx_;      // scalar pattern
+  std::vector<double> values_;
+  Eigen::VectorXd rhs_;
 };
 
-/// Solves symmetric positive definite systems (both triangles, unknowns in blocks of
-/// `block` scalars) with `solver`, or with Eigen's simplicial LDL^T when it is null. A
-/// system with the pattern of the previous one reuses its symbolic analysis (ordering and
-/// all): a pose graph's orientation and position systems share theirs.
+/// Solves symmetric positive definite PairSystems with `solver`, or with Eigen's
+/// simplicial LDL^T when it is null. A system with the pattern of the previous one reuses
+/// its symbolic analysis (ordering and all): a pose graph's orientation and position
+/// systems share theirs.
 class SpdSolver {
  public:
   explicit SpdSolver(LinearSolver* solver) : solver_(solver) {}
 
   /// False on failure.
-  bool solve(const SpMat& a, int block, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  bool solve(const PairSystem& sys, Eigen::VectorXd& x) {
+    const int n = sys.unknowns();
+    x.resize(n);
+    const bool same = analyzed_ && sys.colPtr() == col_ptr_ && sys.rowIdx() == row_idx_;
+    if (!same) {
+      // The solver reads these arrays until its next analysis: they live here.
+      col_ptr_ = sys.colPtr();
+      row_idx_ = sys.rowIdx();
+      analyzed_ = false;
+    }
     if (!solver_) {
-      if (!samePattern(a)) ldlt_.analyzePattern(a);
+      const Eigen::Map<const SpMat> a(n, n, static_cast<Eigen::Index>(row_idx_.size()),
+                                      col_ptr_.data(), row_idx_.data(), sys.values().data());
+      if (!same) ldlt_.analyzePattern(a);
+      analyzed_ = true;
       ldlt_.factorize(a);
       if (ldlt_.info() != Eigen::Success) return false;
-      x = ldlt_.solve(b);
+      x = ldlt_.solve(sys.rhs());
       return ldlt_.info() == Eigen::Success && x.allFinite();
     }
-    // The solver interface: upper triangle in CSC, every stored block complete (its
-    // structural zeros too), the same rows in every column of a block.
-    const int n = static_cast<int>(a.cols());
-    std::vector<int> col_ptr(static_cast<std::size_t>(n) + 1, 0);
-    std::vector<int> row_idx;
-    std::vector<double> values;
-    std::vector<int> blocks;                                 // row blocks of a block column
-    std::vector<int> slot(static_cast<std::size_t>(n), -1);  // scalar row -> value index
-    for (int c0 = 0; c0 < n; c0 += block) {
-      blocks.clear();
-      for (int c = c0; c < c0 + block; ++c) {
-        for (SpMat::InnerIterator it(a, c); it; ++it) {
-          const int rb = static_cast<int>(it.row()) / block;
-          if (rb <= c0 / block) blocks.push_back(rb);
-        }
-      }
-      std::sort(blocks.begin(), blocks.end());
-      blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
-      for (int c = c0; c < c0 + block; ++c) {
-        for (int rb : blocks) {
-          for (int r = rb * block; r < (rb + 1) * block; ++r) {
-            slot[r] = static_cast<int>(row_idx.size());
-            row_idx.push_back(r);
-          }
-        }
-        values.resize(row_idx.size(), 0.0);
-        for (SpMat::InnerIterator it(a, c); it; ++it) {
-          const int r = static_cast<int>(it.row());
-          if (r / block <= c0 / block) values[static_cast<std::size_t>(slot[r])] = it.value();
-        }
-        col_ptr[c + 1] = static_cast<int>(row_idx.size());
-      }
-    }
-    x.resize(n);
-    if (!analyzed_ || block != block_ || col_ptr != col_ptr_ || row_idx != row_idx_) {
-      // The solver reads these arrays until its next analysis: they live here.
-      col_ptr_ = std::move(col_ptr);
-      row_idx_ = std::move(row_idx);
-      block_ = block;
+    if (!same) {
       block_starts_.clear();
-      for (int c = 0; c <= n; c += block) block_starts_.push_back(c);
+      for (int c = 0; c <= n; c += 2) block_starts_.push_back(c);
       SparseStructure st;
       st.n = n;
       st.col_ptr = col_ptr_.data();
       st.row_idx = row_idx_.data();
       st.block_starts = block_starts_.data();
-      st.num_blocks = n / block;
+      st.num_blocks = n / 2;
       analyzed_ = solver_->analyze(st).ok();
       if (!analyzed_) return false;
     }
-    return solver_->factorize(values.data()).ok() && solver_->solve(b.data(), x.data()).ok() &&
-           x.allFinite();
+    return solver_->factorize(sys.values().data()).ok() &&
+           solver_->solve(sys.rhs().data(), x.data()).ok() && x.allFinite();
   }
 
  private:
-  bool samePattern(const SpMat& a) {
-    const auto* p = a.outerIndexPtr();
-    const auto* i = a.innerIndexPtr();
-    const auto cols = static_cast<std::size_t>(a.cols());
-    const bool same = analyzed_ && col_ptr_.size() == cols + 1 &&
-                      std::equal(p, p + cols + 1, col_ptr_.begin()) &&
-                      std::equal(i, i + p[cols], row_idx_.begin(), row_idx_.end());
-    if (!same) {
-      col_ptr_.assign(p, p + cols + 1);
-      row_idx_.assign(i, i + p[cols]);
-      analyzed_ = true;
-    }
-    return same;
-  }
-
   LinearSolver* solver_;
-  Eigen::SimplicialLDLT<SpMat> ldlt_;
+  Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt_;
   std::vector<int> col_ptr_, row_idx_, block_starts_;
-  int block_ = 0;
   bool analyzed_ = false;
 };
 
@@ -134,8 +158,11 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   SpdSolver spd(solver);
 
   // Poses reached by relative-pose edges, in id order (the optimizer's order of blocks:
-  // large graphs then share one fill-reducing ordering with it).
+  // large graphs then share one fill-reducing ordering with it); each edge's two pose
+  // indices.
   std::vector<const EdgeSE2*> relative;
+  std::vector<const EdgePriorSE2*> all_priors;
+  std::vector<const EdgeSE2XY*> all_observations;
   std::vector<VertexSE2*> pose_vertices;
   for (const auto& e : graph.edges()) {
     if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
@@ -143,41 +170,58 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
       for (std::size_t k = 0; k < 2; ++k) {
         pose_vertices.push_back(static_cast<VertexSE2*>(graph.vertex(se2->vertex(k)->id())));
       }
-    }
-  }
-  std::sort(pose_vertices.begin(), pose_vertices.end(),
-            [](const VertexSE2* a, const VertexSE2* b) { return a->id() < b->id(); });
-  pose_vertices.erase(std::unique(pose_vertices.begin(), pose_vertices.end()), pose_vertices.end());
-  std::unordered_map<const Vertex*, int> pose_index;
-  pose_index.reserve(pose_vertices.size());
-  std::vector<PoseNode> poses;
-  poses.reserve(pose_vertices.size());
-  for (VertexSE2* v : pose_vertices) {
-    pose_index.emplace(v, static_cast<int>(poses.size()));
-    poses.push_back({v, {}, v->fixed()});
-  }
-  for (const EdgeSE2* se2 : relative) {
-    const int i = pose_index.at(se2->vertex(0));
-    const int j = pose_index.at(se2->vertex(1));
-    poses[i].links.emplace_back(se2, j);
-    poses[j].links.emplace_back(se2, i);
-  }
-  std::vector<const EdgePriorSE2*> priors;
-  std::vector<const EdgeSE2XY*> observations;
-  for (const auto& e : graph.edges()) {
-    if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
-      auto it = pose_index.find(prior->vertex(0));
-      if (it == pose_index.end()) continue;
-      poses[it->second].anchored = true;
-      priors.push_back(prior);
+    } else if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
+      all_priors.push_back(prior);
     } else if (const auto* obs = dynamic_cast<const EdgeSE2XY*>(e.get())) {
-      if (pose_index.count(obs->vertex(0))) observations.push_back(obs);
+      all_observations.push_back(obs);
     }
   }
-  const int n = static_cast<int>(poses.size());
+  auto by_id = [](const Vertex* a, const Vertex* b) { return a->id() < b->id(); };
+  std::sort(pose_vertices.begin(), pose_vertices.end(), by_id);
+  pose_vertices.erase(std::unique(pose_vertices.begin(), pose_vertices.end()), pose_vertices.end());
+  const int n = static_cast<int>(pose_vertices.size());
   if (n == 0) {
     report.message = "no EDGE_SE2 in the graph: nothing to initialise";
     return report;
+  }
+  // Index of a pose vertex (-1: not a pose reached by an EDGE_SE2).
+  auto pose_index = [&](const Vertex* v) {
+    const auto it = std::lower_bound(pose_vertices.begin(), pose_vertices.end(), v, by_id);
+    return it != pose_vertices.end() && *it == v ? static_cast<int>(it - pose_vertices.begin())
+                                                 : -1;
+  };
+  std::vector<std::pair<int, int>> ends(relative.size());  // (first pose, second pose)
+  for (std::size_t k = 0; k < relative.size(); ++k) {
+    ends[k] = {pose_index(relative[k]->vertex(0)), pose_index(relative[k]->vertex(1))};
+  }
+  std::vector<char> anchored(static_cast<std::size_t>(n), 0);  // fixed vertex or prior
+  for (int i = 0; i < n; ++i) anchored[i] = pose_vertices[i]->fixed() ? 1 : 0;
+  std::vector<std::pair<const EdgePriorSE2*, int>> priors;
+  for (const EdgePriorSE2* prior : all_priors) {
+    const int i = pose_index(prior->vertex(0));
+    if (i < 0) continue;
+    anchored[i] = 1;
+    priors.emplace_back(prior, i);
+  }
+  std::vector<std::pair<const EdgeSE2XY*, int>> observations;
+  for (const EdgeSE2XY* obs : all_observations) {
+    const int i = pose_index(obs->vertex(0));
+    if (i >= 0) observations.emplace_back(obs, i);
+  }
+  // Neighbours of every pose over EDGE_SE2 (CSR).
+  std::vector<int> adj_ptr(static_cast<std::size_t>(n) + 1, 0), adj;
+  for (const auto& [i, j] : ends) {
+    ++adj_ptr[i + 1];
+    ++adj_ptr[j + 1];
+  }
+  for (int i = 0; i < n; ++i) adj_ptr[i + 1] += adj_ptr[i];
+  adj.resize(static_cast<std::size_t>(adj_ptr[n]));
+  {
+    std::vector<int> next(adj_ptr.begin(), adj_ptr.end() - 1);
+    for (const auto& [i, j] : ends) {
+      adj[next[i]++] = j;
+      adj[next[j]++] = i;
+    }
   }
 
   // Connected groups (over EDGE_SE2), flooded from anchored poses first, then in id order
@@ -186,21 +230,22 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   std::vector<char> gauge(static_cast<std::size_t>(n), 0);
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_partition(order.begin(), order.end(), [&](int i) { return poses[i].anchored; });
+  std::stable_partition(order.begin(), order.end(), [&](int i) { return anchored[i] != 0; });
   std::vector<char> reached(static_cast<std::size_t>(n), 0);
+  std::vector<int> queue;
+  queue.reserve(static_cast<std::size_t>(n));
   for (int s : order) {
     if (reached[s]) continue;
-    if (!poses[s].anchored) gauge[s] = 1;
-    std::queue<int> q;
-    q.push(s);
+    if (!anchored[s]) gauge[s] = 1;
+    queue.clear();
+    queue.push_back(s);
     reached[s] = 1;
-    while (!q.empty()) {
-      const int u = q.front();
-      q.pop();
-      for (const auto& [edge, v] : poses[u].links) {
-        if (!reached[v]) {
-          reached[v] = 1;
-          q.push(v);
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int u = queue[head];
+      for (int k = adj_ptr[u]; k < adj_ptr[u + 1]; ++k) {
+        if (!reached[adj[k]]) {
+          reached[adj[k]] = 1;
+          queue.push_back(adj[k]);
         }
       }
     }
@@ -214,54 +259,46 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   std::vector<int> var(static_cast<std::size_t>(n), -1);
   int nv = 0;
   for (int i = 0; i < n; ++i) {
-    if (!poses[i].vertex->fixed() && !gauge[i]) var[i] = nv++;
+    if (!pose_vertices[i]->fixed() && !gauge[i]) var[i] = nv++;
   }
   std::vector<double> theta(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i < n; ++i) theta[i] = poses[i].vertex->estimate().angle();
-  {
-    Triplets trip;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nv);
+  for (int i = 0; i < n; ++i) theta[i] = pose_vertices[i]->estimate().angle();
+  // Pairs of unknowns coupled by an edge: the pattern of both systems (the positions'
+  // adds the landmarks).
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(relative.size() + observations.size());
+  for (const auto& [i, j] : ends) {
+    if (var[i] >= 0 && var[j] >= 0) pairs.emplace_back(var[i], var[j]);
+  }
+  if (nv > 0) {
+    PairSystem sys(nv, pairs);
+    Eigen::VectorXd& rhs = sys.rhs();
     auto unit = [](double t) { return Eigen::Vector2d(std::cos(t), std::sin(t)); };
-    auto add_diagonal = [&](int a, double w) {  // w I, stored as a full 2x2 block
-      trip.emplace_back(2 * a, 2 * a, w);
-      trip.emplace_back(2 * a + 1, 2 * a + 1, w);
-      trip.emplace_back(2 * a, 2 * a + 1, 0.0);
-      trip.emplace_back(2 * a + 1, 2 * a, 0.0);
-    };
-    for (int u = 0; u < n; ++u) {
-      for (const auto& [edge, v] : poses[u].links) {
-        if (edge->vertex(0) != poses[u].vertex) continue;  // each edge once, from its first pose
-        const double w = edge->information()(2, 2);
-        const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
-        const int a = var[u], b = var[v];
-        // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
-        if (a >= 0) add_diagonal(a, w);
-        if (b >= 0) add_diagonal(b, w);
-        if (a >= 0 && b >= 0) {
-          for (int r = 0; r < 2; ++r) {
-            for (int c = 0; c < 2; ++c) {
-              trip.emplace_back(2 * a + r, 2 * b + c, -w * q(c, r));
-              trip.emplace_back(2 * b + r, 2 * a + c, -w * q(r, c));
-            }
-          }
-        } else if (a >= 0) {
-          rhs.segment<2>(2 * a) += w * q.transpose() * unit(theta[v]);
-        } else if (b >= 0) {
-          rhs.segment<2>(2 * b) += w * q * unit(theta[u]);
-        }
+    for (std::size_t k = 0; k < relative.size(); ++k) {
+      const EdgeSE2* edge = relative[k];
+      const auto [u, v] = ends[k];
+      const double w = edge->information()(2, 2);
+      const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
+      const int a = var[u], b = var[v];
+      // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
+      if (a >= 0) sys.add(a, a, w * Eigen::Matrix2d::Identity());
+      if (b >= 0) sys.add(b, b, w * Eigen::Matrix2d::Identity());
+      if (a >= 0 && b >= 0) {
+        sys.add(a, b, -w * q.transpose());
+      } else if (a >= 0) {
+        rhs.segment<2>(2 * a) += w * q.transpose() * unit(theta[v]);
+      } else if (b >= 0) {
+        rhs.segment<2>(2 * b) += w * q * unit(theta[u]);
       }
     }
-    for (const EdgePriorSE2* prior : priors) {
-      const int i = pose_index.at(prior->vertex(0));
+    for (const auto& [prior, i] : priors) {
       if (var[i] < 0) continue;
       const double w = prior->information()(2, 2);
-      add_diagonal(var[i], w);
+      sys.add(var[i], var[i], w * Eigen::Matrix2d::Identity());
       rhs.segment<2>(2 * var[i]) += w * unit(prior->measurement().angle());
     }
-    SpMat a(2 * nv, 2 * nv);
-    a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd r;
-    if (nv > 0 && !spd.solve(a, 2, rhs, r)) {
+    if (!spd.solve(sys, r)) {
       report.message = "orientation system is singular: initial estimates kept";
       return report;
     }
@@ -273,29 +310,26 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   // Step 2: translations of poses and positions of landmarks, orientations held.
   std::unordered_map<const Vertex*, int> lm_var;
   std::vector<VertexXY*> landmarks;
-  for (const EdgeSE2XY* obs : observations) {
-    const Vertex* l = obs->vertex(1);
-    if (l->fixed() || lm_var.count(l)) continue;
-    lm_var.emplace(l, nv + static_cast<int>(landmarks.size()));
-    landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
+  std::vector<int> obs_var(observations.size(), -1);  // the landmark's unknown, -1: fixed
+  for (std::size_t k = 0; k < observations.size(); ++k) {
+    const Vertex* l = observations[k].first->vertex(1);
+    if (l->fixed()) continue;
+    auto [it, inserted] = lm_var.emplace(l, nv + static_cast<int>(landmarks.size()));
+    if (inserted) landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
+    obs_var[k] = it->second;
+    const int a = var[observations[k].second];
+    if (a >= 0) pairs.emplace_back(a, it->second);
   }
   const int nt = nv + static_cast<int>(landmarks.size());
-  {
-    Triplets trip;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nt);
+  if (nt > 0) {
+    PairSystem sys(nt, pairs);
+    Eigen::VectorXd& rhs = sys.rhs();
     // Adds the residual (x_b - x_a) - d with 2x2 weight W; -1 marks a known position.
     auto add = [&](int a, const Eigen::Vector2d& xa, int b, const Eigen::Vector2d& xb,
                    const Eigen::Vector2d& d, const Eigen::Matrix2d& w) {
-      for (int r = 0; r < 2; ++r) {
-        for (int c = 0; c < 2; ++c) {
-          if (a >= 0) trip.emplace_back(2 * a + r, 2 * a + c, w(r, c));
-          if (b >= 0) trip.emplace_back(2 * b + r, 2 * b + c, w(r, c));
-          if (a >= 0 && b >= 0) {
-            trip.emplace_back(2 * a + r, 2 * b + c, -w(r, c));
-            trip.emplace_back(2 * b + r, 2 * a + c, -w(r, c));
-          }
-        }
-      }
+      if (a >= 0) sys.add(a, a, w);
+      if (b >= 0) sys.add(b, b, w);
+      if (a >= 0 && b >= 0) sys.add(a, b, -w);
       if (a >= 0)
         rhs.segment<2>(2 * a) +=
             -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
@@ -303,43 +337,37 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
         rhs.segment<2>(2 * b) +=
             w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
     };
-    auto pos = [&](int i) { return poses[i].vertex->estimate().translation(); };
-    for (int u = 0; u < n; ++u) {
-      for (const auto& [edge, v] : poses[u].links) {
-        if (edge->vertex(0) != poses[u].vertex) continue;
-        const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
-        const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
-        add(var[u], pos(u), var[v], pos(v), rotation2(theta[u]) * edge->measurement().translation(),
-            w);
-      }
+    auto pos = [&](int i) { return pose_vertices[i]->estimate().translation(); };
+    for (std::size_t k = 0; k < relative.size(); ++k) {
+      const EdgeSE2* edge = relative[k];
+      const auto [u, v] = ends[k];
+      const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
+      const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
+      add(var[u], pos(u), var[v], pos(v), rotation2(theta[u]) * edge->measurement().translation(),
+          w);
     }
-    for (const EdgeSE2XY* obs : observations) {
-      const int i = pose_index.at(obs->vertex(0));
-      const Vertex* l = obs->vertex(1);
-      const int b = l->fixed() ? -1 : lm_var.at(l);
-      const Eigen::Vector2d xl = static_cast<const VertexXY*>(l)->estimate();
+    for (std::size_t k = 0; k < observations.size(); ++k) {
+      const auto [obs, i] = observations[k];
+      const Eigen::Vector2d xl = static_cast<const VertexXY*>(obs->vertex(1))->estimate();
       const Eigen::Matrix2d r = rotation2(theta[i]);
       const Eigen::Matrix2d w = r * obs->information() * r.transpose();
-      add(var[i], pos(i), b, xl, r * obs->measurement(), w);
+      add(var[i], pos(i), obs_var[k], xl, r * obs->measurement(), w);
     }
-    for (const EdgePriorSE2* prior : priors) {
-      const int i = pose_index.at(prior->vertex(0));
+    for (const auto& [prior, i] : priors) {
       if (var[i] < 0) continue;
       const Eigen::Matrix2d r = prior->measurement().rotation();
       const Eigen::Matrix2d w = r * prior->information().topLeftCorner<2, 2>() * r.transpose();
       add(-1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(),
           prior->measurement().translation(), w);
     }
-    SpMat a(2 * nt, 2 * nt);
-    a.setFromTriplets(trip.begin(), trip.end());
     Eigen::VectorXd x;
-    if (nt > 0 && !spd.solve(a, 2, rhs, x)) {
+    if (!spd.solve(sys, x)) {
       report.message = "position system is singular: initial estimates kept";
       return report;
     }
     for (int i = 0; i < n; ++i) {
       if (var[i] < 0) continue;
-      poses[i].vertex->setEstimate(SE2(x.segment<2>(2 * var[i]), theta[i]));
+      pose_vertices[i]->setEstimate(SE2(x.segment<2>(2 * var[i]), theta[i]));
       ++report.poses;
     }
     for (std::size_t k = 0; k < landmarks.size(); ++k) {
