@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
-#include <queue>
 #include <unordered_map>
 #include <vector>
 
