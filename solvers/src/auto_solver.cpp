@@ -2,6 +2,7 @@
 // The default solver: picks the ordering and the backend from the predicted cost of the
 // factorisation (symbolic analysis on the block graph).
 #include <cstdio>
+#include <functional>
 #include <future>
 #include <memory>
 #include <string>
@@ -35,9 +36,7 @@ constexpr double kBlockSupernodalFlops = 1e9;
 class AutoSolver final : public LinearSolver {
  public:
   std::string name() const override { return name_; }
-  Ordering ordering() const override {
-    return backend_ ? backend_->ordering() : Ordering::kDefault;
-  }
+  Ordering ordering() const override { return analyzed_ ? label_ : Ordering::kDefault; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
     ChosenOrdering chosen = chooseOrdering(s);
@@ -53,16 +52,15 @@ class AutoSolver final : public LinearSolver {
     const bool supernodal = false;
 #endif
     const char* backend = "eigen-ldlt";
+    make_backend_ = [](Ordering) { return makeEigenLdlt(); };
     if (supernodal) {
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-      backend_ = makeCholmodSolver(true, label);
+      make_backend_ = [](Ordering o) { return makeCholmodSolver(true, o); };
       backend = "cholmod";
 #endif
     } else if (blocks) {
-      backend_ = makeBlockCholesky(label);
+      make_backend_ = makeBlockCholesky;
       backend = "block-llt";
-    } else {
-      backend_ = makeEigenLdlt();
     }
     char buf[160];
     std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend,
@@ -70,9 +68,12 @@ class AutoSolver final : public LinearSolver {
     name_ = buf;
     structure_ = s;
     label_ = label;
+    order_ = std::move(chosen.perm);
+    backend_.reset();
     isotropic_.reset();
     conformal_.reset();
     active_ = nullptr;
+    analyzed_ = true;
     // Vertices of one dimension d > 1: values of the form H_s (x) I_d take the scalar path,
     // and for d = 2 blocks [a -b; b a] the complex one.
     may_be_isotropic_ = s.num_blocks > 0 && s.block_starts[1] - s.block_starts[0] > 1 &&
@@ -80,12 +81,14 @@ class AutoSolver final : public LinearSolver {
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     may_be_conformal_ = may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2;
 #endif
-    if (may_be_isotropic_) order_ = chosen.perm;
-    return backend_->analyzeOrdered(s, std::move(chosen.perm), label);
+    // Each path's own analysis (the backend's too) is made at its first factorisation:
+    // a system that always takes the scalar or complex path never pays for the other.
+    return LinearSolverResult::success();
   }
 
   LinearSolverResult factorize(const double* values) override {
-    if (!backend_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    if (!analyzed_)
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
     // H = H_s (x) I_d (linear SLAM with isotropic noise, the positions of the SE(2)
     // initial guess) is factorised as H_s: d^3 fewer flops. The test stops at the first
     // block that is not a multiple of I (at once for SE(2) poses).
@@ -98,21 +101,21 @@ class AutoSolver final : public LinearSolver {
     if (may_be_conformal_ && detail::firstNonConformalColumn(structure_, values) < 0) {
       return factorizeScalar(conformal_, makeConformalSolver, values);
     }
-    return backend_->factorize(values);
+    return factorizeScalar(backend_, make_backend_, values);
   }
   LinearSolverResult solve(const double* rhs, double* x) override {
-    if (!backend_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    return active().solve(rhs, x);
+    if (!active_)
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
+    return active_->solve(rhs, x);
   }
-  std::size_t factorNonZeros() const override { return backend_ ? active().factorNonZeros() : 0; }
+  std::size_t factorNonZeros() const override { return active_ ? active_->factorNonZeros() : 0; }
   bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
-    return backend_ && active().factorPattern(col_ptr, row_idx);
+    return active_ && active_->factorPattern(col_ptr, row_idx);
   }
 
  private:
-  [[nodiscard]] LinearSolver& active() const { return active_ ? *active_ : *backend_; }
-
-  /// Factorises with `solver`, made and analysed with auto's ordering on first use.
+  /// Factorises with `solver`, made and analysed with auto's ordering on first use (the
+  /// block or scalar backend, the isotropic or the conformal path).
   template <typename Make>
   LinearSolverResult factorizeScalar(std::unique_ptr<detail::OrderedSolver>& solver, Make make,
                                      const double* values) {
@@ -129,10 +132,12 @@ class AutoSolver final : public LinearSolver {
   }
 
   std::string name_ = "auto";
+  bool analyzed_ = false;
+  // The backend (block-llt, eigen-ldlt or cholmod) and the scalar and complex paths for
+  // isotropic and conformal values, each made and analysed at its first use with the
+  // same ordering; active_ is the one of the last factorisation.
+  std::function<std::unique_ptr<detail::OrderedSolver>(Ordering)> make_backend_;
   std::unique_ptr<detail::OrderedSolver> backend_;
-  // The scalar and complex paths for isotropic and conformal values, analysed on first
-  // use with the same ordering; active_ is the one of the last factorisation (none: the
-  // backend).
   SparseStructure structure_;
   Ordering label_ = Ordering::kDefault;
   std::vector<int> order_;
