@@ -5,6 +5,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "graphslam/core/block_pattern.h"
 #include "graphslam/core/linear_system.h"
 
 namespace graphslam::detail {
@@ -43,9 +44,9 @@ void HessianStructure::build(Graph& graph) {
   };
 
   // Block pattern: for every block column, the block rows (<= column) it holds.
-  std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(nb));
-  for (int b = 0; b < nb; ++b) rows_of[b].push_back(b);
   active_edges_.clear();
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(graph.edges().size());
   std::vector<int> blocks;
   for (const auto& e : graph.edges()) {
     blocks.clear();
@@ -54,28 +55,23 @@ void HessianStructure::build(Graph& graph) {
     active_edges_.push_back(e.get());
     for (std::size_t a = 0; a < blocks.size(); ++a) {
       for (std::size_t b = a + 1; b < blocks.size(); ++b) {
-        if (blocks[a] < 0 || blocks[b] < 0) continue;
-        const int lo = std::min(blocks[a], blocks[b]);
-        const int hi = std::max(blocks[a], blocks[b]);
-        rows_of[hi].push_back(lo);
+        if (blocks[a] >= 0 && blocks[b] >= 0) pairs.emplace_back(blocks[a], blocks[b]);
       }
     }
   }
-  for (auto& rows : rows_of) {
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  }
+  const BlockPattern pattern = BlockPattern::fromPairs(nb, pairs);
 
   // Scalar CSC: every column of block column j holds all rows of its row blocks, so the
   // diagonal block is stored full and every column of a block has the same length.
-  std::vector<std::vector<int>> within(static_cast<std::size_t>(nb));  // prefix offsets
+  // within[k]: offset of the k-th row block of its column within the column.
+  std::vector<int> within(pattern.rows.size());
   std::vector<int> col_len(static_cast<std::size_t>(nb));
   std::size_t nnz = 0;
   for (int j = 0; j < nb; ++j) {
     int len = 0;
-    within[j].reserve(rows_of[j].size());
-    for (int r : rows_of[j]) {
-      within[j].push_back(len);
+    for (int k = pattern.ptr[j]; k < pattern.ptr[j + 1]; ++k) {
+      within[k] = len;
+      const int r = pattern.rows[k];
       len += block_starts_[r + 1] - block_starts_[r];
     }
     col_len[j] = len;
@@ -88,15 +84,15 @@ void HessianStructure::build(Graph& graph) {
   diag_pos_.assign(static_cast<std::size_t>(n_), 0);
   for (int j = 0; j < nb; ++j) {
     const int dj = block_starts_[j + 1] - block_starts_[j];
-    const auto diag_at =
-        std::lower_bound(rows_of[j].begin(), rows_of[j].end(), j) - rows_of[j].begin();
+    const int diag_at = pattern.find(j, j);
     for (int k = 0; k < dj; ++k) {
       const int c = block_starts_[j] + k;
       col_ptr_[c + 1] = col_ptr_[c] + col_len[j];
-      for (int r : rows_of[j]) {
+      for (int q = pattern.ptr[j]; q < pattern.ptr[j + 1]; ++q) {
+        const int r = pattern.rows[q];
         for (int i = block_starts_[r]; i < block_starts_[r + 1]; ++i) row_idx_.push_back(i);
       }
-      diag_pos_[c] = col_ptr_[c] + within[j][diag_at] + k;
+      diag_pos_[c] = col_ptr_[c] + within[diag_at] + k;
     }
   }
 
@@ -104,9 +100,7 @@ void HessianStructure::build(Graph& graph) {
     HessianBlockRef ref;
     ref.transposed = bi > bj;
     if (ref.transposed) std::swap(bi, bj);
-    const auto& rows = rows_of[bj];
-    const auto pos = std::lower_bound(rows.begin(), rows.end(), bi) - rows.begin();
-    ref.offset = col_ptr_[block_starts_[bj]] + within[bj][pos];
+    ref.offset = col_ptr_[block_starts_[bj]] + within[pattern.find(bi, bj)];
     ref.stride = col_len[bj];
     return ref;
   };

@@ -11,6 +11,7 @@
 
 #include "../common/test_util.h"
 #include "graphslam/core/base_multi_edge.h"
+#include "graphslam/core/block_pattern.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/file_util.h"
 #include "graphslam/core/fixed_edge.h"
@@ -576,4 +577,18 @@ TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
   EXPECT_NEAR(fallback.final_chi2, gn.final_chi2, 1e-8 * gn.final_chi2);
   std::printf("chi2 %.10g (default, %d factorisations) and %.10g (gn, %d)\n", fallback.final_chi2,
               factorisations(fallback), gn.final_chi2, factorisations(gn));
+}
+
+TEST(Core_BlockPattern, PairsInAnyOrderGiveSortedUpperColumnsWithTheirDiagonal) {
+  // Pairs in both orders, repeated, and a block (3) coupled to nothing.
+  const std::vector<std::pair<int, int>> pairs = {{2, 0}, {0, 2}, {1, 2}, {4, 1}, {2, 1}, {0, 4}};
+  const BlockPattern p = BlockPattern::fromPairs(5, pairs);
+  ASSERT_EQ(p.numBlocks(), 5);
+  const std::vector<std::vector<int>> want = {{0}, {1}, {0, 1, 2}, {3}, {0, 1, 4}};
+  for (int c = 0; c < 5; ++c) {
+    const std::vector<int> got(p.rows.begin() + p.ptr[c], p.rows.begin() + p.ptr[c + 1]);
+    EXPECT_EQ(got, want[c]) << "column " << c;
+    for (int r : want[c]) EXPECT_EQ(p.rows[p.find(r, c)], r);
+  }
+  EXPECT_EQ(p.ptr.back(), static_cast<int>(p.rows.size()));
 }

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "graphslam/core/block_pattern.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
@@ -28,35 +29,15 @@ using SpMat = Eigen::SparseMatrix<double>;
 /// of the given pairs of variables.
 class PairSystem {
  public:
-  PairSystem(int n, const std::vector<std::pair<int, int>>& pairs) : n_(n) {
-    // Row blocks of each block column: the column itself and every pair partner below.
-    std::vector<int> count(static_cast<std::size_t>(n) + 1, 0);
-    for (const auto& [a, b] : pairs) ++count[std::max(a, b) + 1];
-    for (int c = 0; c < n; ++c) count[c + 1] += count[c] + 1;
-    block_ptr_.assign(count.begin(), count.end());
-    block_row_.resize(static_cast<std::size_t>(block_ptr_[n]));
-    std::vector<int> next(block_ptr_.begin(), block_ptr_.end() - 1);
-    for (int c = 0; c < n; ++c) block_row_[next[c]++] = c;
-    for (const auto& [a, b] : pairs) block_row_[next[std::max(a, b)]++] = std::min(a, b);
-    // Sorted and without repeats (several edges between two poses), compacted in place.
-    int out = 0;
-    for (int c = 0; c < n; ++c) {
-      const auto first = block_row_.begin() + block_ptr_[c];
-      const auto last = block_row_.begin() + block_ptr_[c + 1];
-      std::sort(first, last);
-      const auto end = std::unique(first, last);
-      block_ptr_[c] = out;
-      for (auto it = first; it != end; ++it) block_row_[out++] = *it;
-    }
-    block_ptr_[n] = out;
-    block_row_.resize(static_cast<std::size_t>(out));
+  PairSystem(int n, const std::vector<std::pair<int, int>>& pairs)
+      : n_(n), pattern_(BlockPattern::fromPairs(n, pairs)) {
     col_ptr_.assign(2 * static_cast<std::size_t>(n) + 1, 0);
-    row_idx_.reserve(4 * static_cast<std::size_t>(out));
+    row_idx_.reserve(4 * pattern_.rows.size());
     for (int c = 0; c < n; ++c) {
       for (int j = 0; j < 2; ++j) {
-        for (int k = block_ptr_[c]; k < block_ptr_[c + 1]; ++k) {
-          row_idx_.push_back(2 * block_row_[k]);
-          row_idx_.push_back(2 * block_row_[k] + 1);
+        for (int k = pattern_.ptr[c]; k < pattern_.ptr[c + 1]; ++k) {
+          row_idx_.push_back(2 * pattern_.rows[k]);
+          row_idx_.push_back(2 * pattern_.rows[k] + 1);
         }
         col_ptr_[2 * c + j + 1] = static_cast<int>(row_idx_.size());
       }
@@ -71,8 +52,7 @@ class PairSystem {
       add(c, r, m.transpose());
       return;
     }
-    const auto first = block_row_.begin() + block_ptr_[c];
-    const auto k = std::lower_bound(first, block_row_.begin() + block_ptr_[c + 1], r) - first;
+    const int k = pattern_.find(r, c) - pattern_.ptr[c];
     const int stride = col_ptr_[2 * c + 1] - col_ptr_[2 * c];
     double* v = values_.data() + col_ptr_[2 * c] + 2 * k;
     v[0] += m(0, 0);
@@ -89,8 +69,8 @@ class PairSystem {
 
  private:
   int n_;
-  std::vector<int> block_ptr_, block_row_;  // block pattern (upper, rows sorted)
-  std::vector<int> col_ptr_, row_idx_;      // scalar pattern
+  BlockPattern pattern_;                // upper block pattern
+  std::vector<int> col_ptr_, row_idx_;  // scalar pattern
   std::vector<double> values_;
   Eigen::VectorXd rhs_;
 };
