@@ -38,4 +38,11 @@ std::string formatDouble(double value) {
   return std::string(buf.data(), res.ptr);
 }
 
+void appendDouble(std::string& out, double value, char separator) {
+  std::array<char, 32> buf{};
+  buf[0] = separator;
+  auto res = std::to_chars(buf.data() + 1, buf.data() + buf.size(), value);
+  out.append(buf.data(), res.ptr);
+}
+
 }  // namespace graphslam

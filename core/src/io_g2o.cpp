@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -239,13 +240,21 @@ class Reader {
   std::vector<std::pair<int, VertexId>> fixes_;
 };
 
+/// Appends ' ' and the id to a line (no temporary string).
+void appendId(std::string& line, VertexId id) {
+  std::array<char, 24> buf{};
+  buf[0] = ' ';
+  auto res = std::to_chars(buf.data() + 1, buf.data() + buf.size(), id);
+  line.append(buf.data(), res.ptr);
+}
+
 /// Appends the parameter values of a vertex or edge to its line.
 template <typename T>
 void appendParameters(std::string& line, const T& item, std::vector<double>& data) {
   data.resize(static_cast<std::size_t>(item.parameterDataDimension()));
   if (data.empty()) return;
   item.getParameterData(data.data());
-  for (double x : data) line += ' ' + formatDouble(x);
+  for (double x : data) appendDouble(line, x);
 }
 
 }  // namespace
@@ -275,8 +284,9 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
       throw Error("cannot write vertex " + std::to_string(id) + ": its type is not registered");
     data.resize(static_cast<std::size_t>(v->estimateDataDimension()));
     v->getEstimateData(data.data());
-    line = *tag + ' ' + std::to_string(id);
-    for (double x : data) line += ' ' + formatDouble(x);
+    line = *tag;
+    appendId(line, id);
+    for (double x : data) appendDouble(line, x);
     appendParameters(line, *v, data);
     out << line << '\n';
   }
@@ -289,15 +299,15 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
       throw Error("cannot write an edge on vertex " + std::to_string(e->vertexId(0)) +
                   ": its type is not registered");
     line = *tag;
-    for (VertexId id : e->vertexIds()) line += ' ' + std::to_string(id);
+    for (VertexId id : e->vertexIds()) appendId(line, id);
     data.resize(static_cast<std::size_t>(e->measurementDataDimension()));
     e->getMeasurementData(data.data());
-    for (double x : data) line += ' ' + formatDouble(x);
+    for (double x : data) appendDouble(line, x);
     appendParameters(line, *e, data);
     const int d = e->dimension();
     const double* info = e->informationData();
     for (int r = 0; r < d; ++r) {
-      for (int c = r; c < d; ++c) line += ' ' + formatDouble(info[r + c * d]);
+      for (int c = r; c < d; ++c) appendDouble(line, info[r + c * d]);
     }
     out << line << '\n';
   }

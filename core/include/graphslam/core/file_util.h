@@ -15,4 +15,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 /// Shortest decimal text that reads back to exactly `value`.
 [[nodiscard]] std::string formatDouble(double value);
 
+/// Appends `separator`, then formatDouble(value), to `out` (no temporary string).
+void appendDouble(std::string& out, double value, char separator = ' ');
+
 }  // namespace graphslam
