@@ -96,12 +96,12 @@ class AutoSolver final : public LinearSolver {
     // complex matrix: half the flops and half the memory of the 2x2 block factor.
     active_ = nullptr;
     if (may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0) {
-      return factorizeScalar(isotropic_, makeIsotropicSolver, values);
+      return factorizeWith(isotropic_, makeIsotropicSolver, values);
     }
     if (may_be_conformal_ && detail::firstNonConformalColumn(structure_, values) < 0) {
-      return factorizeScalar(conformal_, makeConformalSolver, values);
+      return factorizeWith(conformal_, makeConformalSolver, values);
     }
-    return factorizeScalar(backend_, make_backend_, values);
+    return factorizeWith(backend_, make_backend_, values);
   }
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!active_)
@@ -117,8 +117,8 @@ class AutoSolver final : public LinearSolver {
   /// Factorises with `solver`, made and analysed with auto's ordering on first use (the
   /// block or scalar backend, the isotropic or the conformal path).
   template <typename Make>
-  LinearSolverResult factorizeScalar(std::unique_ptr<detail::OrderedSolver>& solver, Make make,
-                                     const double* values) {
+  LinearSolverResult factorizeWith(std::unique_ptr<detail::OrderedSolver>& solver, Make make,
+                                   const double* values) {
     if (!solver) {
       solver = make(label_);
       const LinearSolverResult r = solver->analyzeOrdered(structure_, order_, label_);
