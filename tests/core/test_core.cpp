@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "../common/se2_graphs.h"
 #include "../common/test_util.h"
 #include "graphslam/core/base_multi_edge.h"
 #include "graphslam/core/block_pattern.h"
@@ -377,12 +378,7 @@ TEST_P(Core_Optimizer, NoiseFreePoseGraphRecoversTruth) {
                                   truth[i].angle() + noise(rng)));
       g.addVertex(std::move(v));
     }
-    auto link = [&](int i, int j) {
-      auto e = std::make_unique<EdgeSE2>();
-      e->setVertexIds({i, j});
-      e->setMeasurement(truth[i].inverse() * truth[j]);
-      g.addEdge(std::move(e));
-    };
+    auto link = [&](int i, int j) { test::addExactSE2Edge(g, truth, i, j); };
     for (int i = 0; i + 1 < n; ++i) link(i, i + 1);
     for (int i = 0; i + 21 < n; i += 3) link(i, i + 21);
     auto solvers = allSolvers();

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "../common/edge_type_checks.h"
+#include "../common/se2_graphs.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/solvers/register.h"
@@ -297,12 +298,7 @@ struct NoiseFreeGraph {
       if (i == 0) v->setEstimate(truth[0]);
       g.addVertex(std::move(v));
     }
-    auto link = [&](int i, int j) {
-      auto e = std::make_unique<EdgeSE2>();
-      e->setVertexIds({i, j});
-      e->setMeasurement(truth[i].inverse() * truth[j]);
-      g.addEdge(std::move(e));
-    };
+    auto link = [&](int i, int j) { test::addExactSE2Edge(g, truth, i, j); };
     for (int i = 0; i + 1 < kPoses; ++i) link(i, i + 1);
     for (int i = 0; i + 13 < kPoses; i += 5) link(i, i + 13);
     auto lm = std::make_unique<VertexXY>();
