@@ -50,12 +50,18 @@ constexpr const char* kOptimizeUsage =
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
     "remove the gauge freedom gets zeros; the others are relative to it.";
 
+/// How the iteration line marks a chord step.
+std::string chordNote(int cg_iterations) {
+  return "  (chord step: previous factorisation, " + std::to_string(cg_iterations) +
+         (cg_iterations == 1 ? " CG iteration)" : " CG iterations)");
+}
+
 std::string csvLine(const IterationStats& s) {
   std::ostringstream o;
   o.precision(17);
   o << s.iteration << ',' << s.chi2 << ',' << s.lambda << ',' << s.step_norm << ',' << s.attempts
     << ',' << (s.accepted ? 1 : 0) << ',' << s.time.linearize << ',' << s.time.build << ','
-    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed;
+    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed << ',' << s.cg_iterations;
   return o.str();
 }
 
@@ -200,7 +206,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     if (!quiet) {
       std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
                   s.chi2, s.lambda, s.step_norm, s.time.total(),
-                  s.accepted ? (s.attempts == 0 ? "  (chord step: previous factorisation)" : "")
+                  s.accepted ? (s.attempts == 0 ? chordNote(s.cg_iterations).c_str() : "")
                              : "  (rejected)");
       std::fflush(stdout);
     }
@@ -223,7 +229,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   if (!stats_file.empty()) {
     writeFileAtomically(stats_file, [&](std::ostream& out) {
       out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
-             "time_factorize,time_solve,elapsed\n";
+             "time_factorize,time_solve,elapsed,cg_iterations\n";
       for (const auto& line : csv) out << line << "\n";
     });
   }

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <utility>
 
 #include "graphslam/core/error.h"
 #include "graphslam/core/linear_system.h"
@@ -83,6 +85,23 @@ constexpr double kMinRelativeLambda = 1e-16;
 /// A Gauss-Newton step that lowered chi2 by less than this fraction is followed by a
 /// chord step (the last factorisation reused) before a new factorisation.
 constexpr double kChordTrigger = 1e-4;
+/// So is a step (Gauss-Newton or chord) whose actual decrease of chi2 was within this
+/// fraction of its quadratic model's (the problem is that close to linear around it),
+/// when the chord step may take at least kChordAgreementIterations conjugate-gradient
+/// iterations: far from convergence one chord iteration gains much less than a
+/// Gauss-Newton step, a few preconditioned ones gain as much.
+constexpr double kChordAgreement = 0.05;
+constexpr int kChordAgreementIterations = 4;
+/// A chord step solves the new system by conjugate gradients preconditioned with the last
+/// factorisation, until an iteration lowers the model by less than this fraction of
+/// what the first one did...
+constexpr double kChordRelativeTolerance = 1e-4;
+/// ...or below this fraction of the optimizer's function tolerance times chi2.
+constexpr double kChordAbsoluteTolerance = 0.1;
+/// Conjugate-gradient iterations a chord step may take: a factorisation costs at least
+/// nnz(L)/n / 4 solves (sum c_j^2 flops against 4 sum c_j, c_j the column counts of L);
+/// a chord step may spend half of that, at least one iteration and at most this many.
+constexpr int kChordMaxIterations = 10;
 }  // namespace
 
 struct Optimizer::Impl {
@@ -95,6 +114,7 @@ struct Optimizer::Impl {
   std::vector<double> dx;
   std::vector<double> saved_diag;  // diagonal of the undamped H
   std::vector<double> damping_diag;
+  std::vector<double> cg_r, cg_z, cg_p, cg_hp;  // chord steps' conjugate gradients
 
   /// Fills the system of the form the solver consumes from the stored Jacobians.
   void assemble() {
@@ -156,6 +176,74 @@ struct Optimizer::Impl {
   LinearSolverResult solve() {
     return jacobian_form ? solver->solveJacobian(rhs.data(), dx.data())
                          : solver->solve(rhs.data(), dx.data());
+  }
+
+  /// y = H x, H the assembled Hessian (its upper triangle; the lower triangles of the
+  /// diagonal blocks, also stored, are skipped).
+  void hessianProduct(const std::vector<double>& x, std::vector<double>& y) const {
+    const SparseStructure h = structure.hessianStructure();
+    const double* v = structure.hessianValues().data();
+    y.assign(x.size(), 0.0);
+    for (int c = 0; c < h.n; ++c) {
+      double yc = 0.0;
+      for (int k = h.col_ptr[c]; k < h.col_ptr[c + 1]; ++k) {
+        const int r = h.row_idx[k];
+        if (r > c) break;  // rows are sorted
+        yc += v[k] * x[r];
+        if (r != c) y[r] += v[k] * x[c];
+      }
+      y[c] += yc;
+    }
+  }
+
+  /// Conjugate-gradient iterations a chord step may take (kChordMaxIterations).
+  int chordIterations() const {
+    const double n = std::max(1, structure.dimension());
+    const double per_column = static_cast<double>(solver->factorNonZeros()) / n;
+    return std::clamp(static_cast<int>(per_column / 6.0), 1, kChordMaxIterations);
+  }
+
+  /// Chord step: solves H dx = rhs (the Hessian just assembled) by conjugate gradients
+  /// preconditioned with the solver's last factorisation, of an earlier H. The first
+  /// iteration is the plain chord step scaled to the minimum of the model along it.
+  /// Iteration k lowers the model's chi2 by alpha_k r_k^T M^-1 r_k; the iterations stop
+  /// when that is below max(relative_tolerance times the first one's, absolute_tolerance)
+  /// (the decreases shrink geometrically), or after max_iterations. Returns the iterations
+  /// made (0: a solve failed) and whether the tolerance was reached.
+  std::pair<int, bool> chordSolve(double relative_tolerance, double absolute_tolerance,
+                                  int max_iterations) {
+    const std::size_t n = rhs.size();
+    cg_r = rhs;
+    dx.assign(n, 0.0);
+    cg_p.assign(n, 0.0);
+    cg_z.resize(n);
+    double rz_old = 0.0;
+    double first_decrease = 0.0;
+    for (int k = 1; k <= max_iterations; ++k) {
+      if (!solver->solve(cg_r.data(), cg_z.data()).ok()) return {0, false};
+      double rz = 0.0;
+      for (std::size_t i = 0; i < n; ++i) rz += cg_r[i] * cg_z[i];
+      const double beta = k == 1 ? 0.0 : rz / rz_old;
+      for (std::size_t i = 0; i < n; ++i) cg_p[i] = cg_z[i] + beta * cg_p[i];
+      hessianProduct(cg_p, cg_hp);
+      double php = 0.0;
+      for (std::size_t i = 0; i < n; ++i) php += cg_p[i] * cg_hp[i];
+      if (!(php > 0.0 && rz > 0.0 && std::isfinite(php) && std::isfinite(rz))) {
+        return {k - 1, rz == 0.0 && k > 1};  // at the solution (or broken down)
+      }
+      const double alpha = rz / php;
+      for (std::size_t i = 0; i < n; ++i) {
+        dx[i] += alpha * cg_p[i];
+        cg_r[i] -= alpha * cg_hp[i];
+      }
+      const double decrease = alpha * rz;
+      if (k == 1) first_decrease = decrease;
+      if (decrease <= std::max(relative_tolerance * first_decrease, absolute_tolerance)) {
+        return {k, true};
+      }
+      rz_old = rz;
+    }
+    return {max_iterations, false};
   }
 
   double evalChi2(Graph& graph) { return structure.computeChi2(graph); }
@@ -293,6 +381,7 @@ Summary Optimizer::optimize() {
   // lowered chi2 by last_decrease.
   bool chord_ready = false;
   double last_decrease = 0.0;
+  double last_rho = 0.0;  // actual / model decrease of the last undamped step
   std::vector<double> best_state;
   summary.status = TerminationStatus::kMaxIterations;
 
@@ -348,10 +437,18 @@ Summary Optimizer::optimize() {
     // It is the iteration's step when it lowers chi2 (the next iteration factorises
     // again); otherwise it is undone and the iteration goes on as usual.
     bool chord = false;
+    bool chord_converged = false;
     double chord_chi2 = chi2;
-    if (chord_ready && last_decrease < kChordTrigger * chi2) {
+    if (chord_ready && (last_decrease < kChordTrigger * chi2 ||
+                        (std::abs(1.0 - last_rho) < kChordAgreement &&
+                         im.chordIterations() >= kChordAgreementIterations))) {
       const auto ts = Clock::now();
-      if (im.solve().ok()) {
+      const auto [cg_iterations, cg_converged] = im.chordSolve(
+          kChordRelativeTolerance, kChordAbsoluteTolerance * options_.function_tolerance * chi2,
+          im.chordIterations());
+      st.cg_iterations = cg_iterations;
+      chord_converged = cg_converged;
+      if (cg_iterations > 0) {
         im.applyUpdate();
         chord_chi2 = im.evalChi2(graph_);
         chord = chord_chi2 < chi2 || (chord_chi2 == chi2 && chi2 == 0.0);
@@ -438,8 +535,12 @@ Summary Optimizer::optimize() {
     if (!accepted) new_chi2 = im.evalChi2(graph_);  // errors at the restored estimate
 
     double step = 0.0;
+    double model_decrease = 0.0;  // -g.dx: the quadratic model's decrease (undamped step)
     if (accepted) {
-      for (int i = 0; i < n; ++i) step += im.dx[i] * im.dx[i];
+      for (int i = 0; i < n; ++i) {
+        step += im.dx[i] * im.dx[i];
+        model_decrease -= im.structure.gradient()[i] * im.dx[i];
+      }
       step = std::sqrt(step);
     }
     if (fallback && !damped && !stop) {
@@ -463,9 +564,14 @@ Summary Optimizer::optimize() {
     summary.iterations = it;
     const double old_chi2 = chi2;
     chi2 = new_chi2;
-    chord_ready = fallback && !damped && !im.jacobian_form && accepted && attempts == 1 &&
+    // A chord step that did not reach its tolerance is followed by a factorisation.
+    chord_ready = fallback && !damped && !im.jacobian_form && accepted &&
+                  (attempts == 1 || (chord && chord_converged)) &&
                   options_.function_tolerance > 0 && new_chi2 <= old_chi2;
     last_decrease = old_chi2 - new_chi2;
+    last_rho = model_decrease > 0 ? last_decrease / model_decrease : 0.0;
+    // After a chord step only its agreement with the model may call for another.
+    if (chord) last_decrease = std::numeric_limits<double>::infinity();
     if (options_.callback) options_.callback(st);
     if (stop) break;
     const bool small_change =

@@ -16,9 +16,11 @@ enum class Algorithm {
   kLevenbergMarquardt,  ///< damped steps, Nielsen's lambda update (as g2o)
   /// The default. Gauss-Newton steps, accepted even when chi2 rises for a while (up to
   /// Options::fallback_patience steps in a row without a new best); then back to the best
-  /// estimate, and Levenberg-Marquardt from there. Near convergence (a step that lowered
-  /// chi2 by less than 1e-4 of it) the next step first reuses the last factorisation (a
-  /// chord step), kept when it lowers chi2; the step after it factorises again.
+  /// estimate, and Levenberg-Marquardt from there. Chord steps: after a step that lowered
+  /// chi2 by less than 1e-4 of it, or that agreed with its quadratic model within 5 % when
+  /// the factor is dense enough, the next step first solves the new system by conjugate
+  /// gradients preconditioned with the last factorisation; it is kept when it lowers chi2,
+  /// and chord steps follow one another while their iterations reach their tolerance.
   kGaussNewtonFallback,
 };
 
@@ -54,6 +56,9 @@ struct IterationStats {
   /// Factorisations this iteration (LM retries on rejection); 0 for a chord step, which
   /// reused the previous Gauss-Newton step's factorisation.
   int attempts = 1;
+  /// Conjugate-gradient iterations of a chord step (each one solve with the previous
+  /// factorisation); 0 otherwise.
+  int cg_iterations = 0;
   bool accepted = true;  ///< false when LM found no decreasing step
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
