@@ -544,23 +544,35 @@ TEST(Core_LinearSystem, ParallelLinearisationMatchesSerialPerEdge) {
 
 }  // namespace
 
+namespace {
+
+/// Optimises a simulated Manhattan graph (vertex 0 fixed) with `algorithm`, from the
+/// simulator's estimates or from the global initial guess.
+Summary optimizeSimulated(const types_slam2d::ManhattanOptions& sim, Algorithm algorithm,
+                          bool global_init) {
+  auto solvers = allSolvers();
+  Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
+  g.vertex(0)->setFixed(true);
+  if (global_init) {
+    auto init_solver = solvers.create("auto");
+    EXPECT_TRUE(types_slam2d::initializeGlobal(g, init_solver.get()).message.empty());
+  }
+  Optimizer::Options opt;
+  opt.algorithm = algorithm;
+  Optimizer optimizer(g, solvers, opt);
+  return optimizer.optimize();
+}
+
+}  // namespace
+
 // Near convergence the default algorithm reuses the last Gauss-Newton factorisation for
 // one step (a chord step); it must end where plain Gauss-Newton ends, with fewer
 // factorisations, and plain Gauss-Newton must factorise at every iteration.
 TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
-  auto solvers = allSolvers();
   types_slam2d::ManhattanOptions sim;
   sim.num_poses = 1500;
-  auto run = [&](Algorithm algorithm) {
-    Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
-    g.vertex(0)->setFixed(true);
-    Optimizer::Options opt;
-    opt.algorithm = algorithm;
-    Optimizer optimizer(g, solvers, opt);
-    return optimizer.optimize();
-  };
-  const Summary fallback = run(Algorithm::kGaussNewtonFallback);
-  const Summary gn = run(Algorithm::kGaussNewton);
+  const Summary fallback = optimizeSimulated(sim, Algorithm::kGaussNewtonFallback, false);
+  const Summary gn = optimizeSimulated(sim, Algorithm::kGaussNewton, false);
   ASSERT_EQ(fallback.status, TerminationStatus::kConverged) << fallback.message;
   ASSERT_EQ(gn.status, TerminationStatus::kConverged) << gn.message;
   auto factorisations = [](const Summary& s) {
@@ -576,20 +588,6 @@ TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
               factorisations(fallback), gn.final_chi2, factorisations(gn));
 }
 
-TEST(Core_BlockPattern, PairsInAnyOrderGiveSortedUpperColumnsWithTheirDiagonal) {
-  // Pairs in both orders, repeated, and a block (3) coupled to nothing.
-  const std::vector<std::pair<int, int>> pairs = {{2, 0}, {0, 2}, {1, 2}, {4, 1}, {2, 1}, {0, 4}};
-  const BlockPattern p = BlockPattern::fromPairs(5, pairs);
-  ASSERT_EQ(p.numBlocks(), 5);
-  const std::vector<std::vector<int>> want = {{0}, {1}, {0, 1, 2}, {3}, {0, 1, 4}};
-  for (int c = 0; c < 5; ++c) {
-    const std::vector<int> got(p.rows.begin() + p.ptr[c], p.rows.begin() + p.ptr[c + 1]);
-    EXPECT_EQ(got, want[c]) << "column " << c;
-    for (int r : want[c]) EXPECT_EQ(p.rows[p.find(r, c)], r);
-  }
-  EXPECT_EQ(p.ptr.back(), static_cast<int>(p.rows.size()));
-}
-
 // Chord steps iterate conjugate gradients preconditioned with the last factorisation.
 // Away from convergence one is taken when the last step agreed with its model and the
 // factor is dense enough for a few iterations to cost less than a factorisation
@@ -597,22 +595,11 @@ TEST(Core_BlockPattern, PairsInAnyOrderGiveSortedUpperColumnsWithTheirDiagonal) 
 // simulated graph started at the global initial guess (what `graphslam optimize` does)
 // one factorisation serves every step, and the optimizer ends where Gauss-Newton ends.
 TEST(Core_Optimizer, ChordStepsIterateConjugateGradientsOnTheLastFactorisation) {
-  auto solvers = allSolvers();
   types_slam2d::ManhattanOptions sim;
   sim.num_poses = 2000;
   sim.sigma_theta = 0.05;  // the first step lowers chi2 by 16 %
-  auto run = [&](Algorithm algorithm) {
-    Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
-    g.vertex(0)->setFixed(true);
-    auto init_solver = solvers.create("auto");
-    EXPECT_TRUE(types_slam2d::initializeGlobal(g, init_solver.get()).message.empty());
-    Optimizer::Options opt;
-    opt.algorithm = algorithm;
-    Optimizer optimizer(g, solvers, opt);
-    return optimizer.optimize();
-  };
-  const Summary fallback = run(Algorithm::kGaussNewtonFallback);
-  const Summary gn = run(Algorithm::kGaussNewton);
+  const Summary fallback = optimizeSimulated(sim, Algorithm::kGaussNewtonFallback, true);
+  const Summary gn = optimizeSimulated(sim, Algorithm::kGaussNewton, true);
   ASSERT_EQ(fallback.status, TerminationStatus::kConverged) << fallback.message;
   ASSERT_EQ(gn.status, TerminationStatus::kConverged) << gn.message;
   int factorisations = 0;
@@ -635,4 +622,18 @@ TEST(Core_Optimizer, ChordStepsIterateConjugateGradientsOnTheLastFactorisation) 
   EXPECT_NEAR(fallback.final_chi2, gn.final_chi2, 1e-8 * gn.final_chi2);
   std::printf("chi2 %.10g -> %.10g (default) and %.10g (gn, %d iterations)\n",
               fallback.initial_chi2, fallback.final_chi2, gn.final_chi2, gn.iterations);
+}
+
+TEST(Core_BlockPattern, PairsInAnyOrderGiveSortedUpperColumnsWithTheirDiagonal) {
+  // Pairs in both orders, repeated, and a block (3) coupled to nothing.
+  const std::vector<std::pair<int, int>> pairs = {{2, 0}, {0, 2}, {1, 2}, {4, 1}, {2, 1}, {0, 4}};
+  const BlockPattern p = BlockPattern::fromPairs(5, pairs);
+  ASSERT_EQ(p.numBlocks(), 5);
+  const std::vector<std::vector<int>> want = {{0}, {1}, {0, 1, 2}, {3}, {0, 1, 4}};
+  for (int c = 0; c < 5; ++c) {
+    const std::vector<int> got(p.rows.begin() + p.ptr[c], p.rows.begin() + p.ptr[c + 1]);
+    EXPECT_EQ(got, want[c]) << "column " << c;
+    for (int r : want[c]) EXPECT_EQ(p.rows[p.find(r, c)], r);
+  }
+  EXPECT_EQ(p.ptr.back(), static_cast<int>(p.rows.size()));
 }
