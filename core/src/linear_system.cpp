@@ -160,6 +160,7 @@ void LinearSystem::linearize() {
     for (Edge* e : edges) e->linearizeOplus();
     im.parallel_edges.clear();
     im.serial_edges.clear();
+    im.parallel_edges.reserve(edges.size());
     for (Edge* e : edges) {
       (e->perturbsVerticesInPlace() ? im.serial_edges : im.parallel_edges).push_back(e);
     }
