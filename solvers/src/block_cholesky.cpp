@@ -169,7 +169,7 @@ class BlockCholesky final : public detail::OrderedSolver {
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
         const AEntry& e = a_[q];
         Block blk;
-        if (uniform_) {
+        if (uniform_ || (e.rows == B && e.cols == B)) {
           blk = Eigen::Map<const Block, 0, Eigen::OuterStride<>>(h + e.first,
                                                                  Eigen::OuterStride<>(e.stride));
         } else {
