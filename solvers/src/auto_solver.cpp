@@ -35,7 +35,13 @@ constexpr double kBlockSupernodalFlops = 1e9;
 
 class AutoSolver final : public LinearSolver {
  public:
-  std::string name() const override { return name_; }
+  /// The choice made at analysis, and the path of the last factorisation when it was the
+  /// scalar (isotropic) or the complex (conformal) one.
+  std::string name() const override {
+    if (active_ && active_ == isotropic_.get()) return name_ + " (isotropic path)";
+    if (active_ && active_ == conformal_.get()) return name_ + " (complex path)";
+    return name_;
+  }
   Ordering ordering() const override { return analyzed_ ? label_ : Ordering::kDefault; }
 
   LinearSolverResult analyze(const SparseStructure& s) override {
@@ -79,7 +85,8 @@ class AutoSolver final : public LinearSolver {
     may_be_isotropic_ = s.num_blocks > 0 && s.block_starts[1] - s.block_starts[0] > 1 &&
                         maxBlockSize(s) == s.block_starts[1] - s.block_starts[0];
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    may_be_conformal_ = may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2;
+    may_be_conformal_ =
+        may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2 && supernodal;
 #endif
     // Each path's own analysis (the backend's too) is made at its first factorisation:
     // a system that always takes the scalar or complex path never pays for the other.

@@ -94,7 +94,7 @@ std::vector<DatasetCase> cases() {
       {"mit.g2o", 526.331038, 41.16326884, true, defaults()},
       {"m3500b.g2o", 4212.0166, 2054.715918, true, defaults()},
       {"dlr.g2o", 56860.35, 56860.35268, true, defaults()},
-      {"victoria_park.g2o", 503457.85, 120018.4893, true, defaults()},
+      {"victoria_park.g2o", 503457.85, 6184.1206, true, defaults()},
       {"citytrees10000.g2o", 8668.93, 8668.928087, true, defaults()},
       // From the files' own estimates, plain Gauss-Newton (as g2o's best configuration).
       {"intel.g2o", 45.004696, 45.00469581, false, gaussNewton()},

@@ -692,28 +692,6 @@ TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
   EXPECT_LT(nnz[3], nnz[2]);
 }
 
-TEST(Solvers_Auto, ConformalValuesTakeTheComplexPath) {
-  AutoOnPairs t(43);
-  const BlockSystem& sys = t.sys;
-  const Eigen::MatrixXd conf = sys.conformal(t.general);
-  const Eigen::MatrixXd iso = sys.isotropic(t.general);
-  (void)solveInTurn(*t.solver, sys, {&conf, &t.general, &conf, &iso, &conf});
-  // The complex path reports a failed pivot as CHOLMOD does, at the vertex's first column;
-  // the block path would say "non-positive pivot block".
-  Eigen::MatrixXd bad = conf;
-  bad.block<2, 2>(12, 12) = -50.0 * Eigen::Matrix2d::Identity();
-  const auto values = sys.values(bad);
-  const LinearSolverResult r = t.solver->factorize(values.data());
-  ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
-  if (t.registry.contains("cholmod")) {  // the complex path needs CHOLMOD
-    EXPECT_NE(r.message.find("matrix is not positive definite"), std::string::npos) << r.message;
-    EXPECT_EQ(r.column % 2, 0);
-  }
-  EXPECT_GE(r.column, 0);
-  EXPECT_LT(r.column, sys.n());
-}
-
 /// The upper CSC pattern of a side x side grid graph (one scalar unknown per node,
 /// 4-neighbours), with its diagonal.
 struct GridPattern {
@@ -760,6 +738,81 @@ TEST(Solvers_ChooseOrdering, MetisWinsOnLargeGridsSequentialAndConcurrent) {
     EXPECT_EQ(chosen.perm, metis_perm) << side;
     EXPECT_EQ(chosen.prediction.flops, metis.flops) << side;
   }
+}
+
+// Blocks [a -b; b a] are a Hermitian complex matrix: `auto` factorises it as such (half
+// the flops and memory of the real 2x2 block factor) when the factorisation is large
+// enough for CHOLMOD's supernodal one (on small systems block-llt is faster than CHOLMOD's
+// complex factorisation); a block of another form sends it back to the real factor.
+TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  if (!registry.contains("cholmod")) GTEST_SKIP() << "the complex path needs CHOLMOD";
+  const GridPattern grid(300);  // 90000 blocks of 2x2
+  // The grid with 2x2 blocks, stored complete: columns 2c and 2c+1 hold rows 2r, 2r+1 for
+  // every row r of grid column c.
+  std::vector<int> col_ptr{0}, row_idx, block_starts;
+  for (int c = 0; c < grid.structure.n; ++c) {
+    for (int j = 0; j < 2; ++j) {
+      for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
+        row_idx.push_back(2 * grid.row_idx[k]);
+        row_idx.push_back(2 * grid.row_idx[k] + 1);
+      }
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+  }
+  for (int b = 0; b <= grid.structure.n; ++b) block_starts.push_back(2 * b);
+  SparseStructure s;
+  s.n = 2 * grid.structure.n;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = block_starts.data();
+  s.num_blocks = grid.structure.n;
+  // Off-diagonal blocks: rotations; diagonal blocks: (degree + 1) I (diagonally dominant).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  std::vector<double> values(row_idx.size(), 0.0);
+  for (int c = 0; c < grid.structure.n; ++c) {
+    const int len = col_ptr[2 * c + 1] - col_ptr[2 * c];
+    for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
+      const int at = col_ptr[2 * c] + 2 * (k - grid.col_ptr[c]);
+      double* v = values.data() + at;  // v[0], v[1]: column 2c; v[len], v[len + 1]: 2c + 1
+      if (grid.row_idx[k] == c) {
+        v[0] = v[len + 1] = 5.0;
+      } else {
+        const double t = angle(rng);
+        v[0] = v[len + 1] = std::cos(t);
+        v[1] = std::sin(t);
+        v[len] = -std::sin(t);
+      }
+    }
+  }
+  auto solver = registry.create("auto");
+  ASSERT_TRUE(solver->analyze(s).ok());
+  ASSERT_TRUE(solver->factorize(values.data()).ok());
+  EXPECT_NE(solver->name().find("(complex path)"), std::string::npos) << solver->name();
+  std::vector<double> rhs(static_cast<std::size_t>(s.n)), x(rhs.size()), hx(rhs.size(), 0.0);
+  for (double& r : rhs) r = angle(rng);
+  ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+  for (int c = 0; c < s.n; ++c) {  // H x from the upper triangle and complete blocks
+    for (int k = col_ptr[c]; k < col_ptr[c + 1]; ++k) {
+      const int r = row_idx[k];
+      if (r / 2 == c / 2) {
+        hx[r] += values[k] * x[c];  // the diagonal block, stored complete
+      } else {
+        hx[r] += values[k] * x[c];
+        hx[c] += values[k] * x[r];
+      }
+    }
+  }
+  double err = 0.0;
+  for (int i = 0; i < s.n; ++i) err = std::max(err, std::abs(hx[i] - rhs[i]));
+  EXPECT_LT(err, 1e-9);
+  // One block of another form: the real factor.
+  values[col_ptr[2 * 200 + 1] - 2] = 5.5;  // a diagonal block 5.5, 5 on its diagonal
+  ASSERT_TRUE(solver->factorize(values.data()).ok());
+  EXPECT_EQ(solver->name().find("path)"), std::string::npos) << solver->name();
+  std::printf("%s\n", solver->name().c_str());
 }
 
 // A factor of tens of MB: CHOLMOD's large allocations (the factor's values here) are
