@@ -432,10 +432,11 @@ Summary Optimizer::optimize() {
       im.saveState(best_state);
     }
 
-    // Near convergence H hardly changes between Gauss-Newton steps: the factorisation of
-    // the last one gives a step (a chord step) almost as good, for the price of a solve.
-    // It is the iteration's step when it lowers chi2 (the next iteration factorises
-    // again); otherwise it is undone and the iteration goes on as usual.
+    // Near convergence (or where the problem is close to linear) H hardly changes between
+    // steps: conjugate gradients preconditioned with the last factorisation give a step (a
+    // chord step) almost as good, for the price of a few solves. It is the iteration's step
+    // when it lowers chi2 (the next iteration factorises again unless its iterations
+    // reached their tolerance); otherwise it is undone and the iteration goes on as usual.
     bool chord = false;
     bool chord_converged = false;
     double chord_chi2 = chi2;

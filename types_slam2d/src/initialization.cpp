@@ -146,7 +146,12 @@ void addResidual(PairSystem& sys, const std::array<LinearTerm, K>& terms, double
     sys.rhs().segment<2>(2 * terms[a].unknown) += w * terms[a].m.transpose() * c;
     for (std::size_t b = a; b < K; ++b) {
       if (terms[b].unknown < 0) continue;
-      sys.add(terms[a].unknown, terms[b].unknown, w * terms[a].m.transpose() * terms[b].m);
+      const Eigen::Matrix2d m = w * terms[a].m.transpose() * terms[b].m;
+      if (b != a && terms[b].unknown == terms[a].unknown) {
+        sys.add(terms[a].unknown, terms[a].unknown, m + m.transpose());  // one unknown twice
+      } else {
+        sys.add(terms[a].unknown, terms[b].unknown, m);
+      }
     }
   }
 }
