@@ -440,13 +440,14 @@ Summary Optimizer::optimize() {
     bool chord = false;
     bool chord_converged = false;
     double chord_chi2 = chi2;
-    if (chord_ready && (last_decrease < kChordTrigger * chi2 ||
-                        (std::abs(1.0 - last_rho) < kChordAgreement &&
-                         im.chordIterations() >= kChordAgreementIterations))) {
+    const int chord_budget = chord_ready ? im.chordIterations() : 0;
+    if (chord_ready &&
+        (last_decrease < kChordTrigger * chi2 || (std::abs(1.0 - last_rho) < kChordAgreement &&
+                                                  chord_budget >= kChordAgreementIterations))) {
       const auto ts = Clock::now();
-      const auto [cg_iterations, cg_converged] = im.chordSolve(
-          kChordRelativeTolerance, kChordAbsoluteTolerance * options_.function_tolerance * chi2,
-          im.chordIterations());
+      const auto [cg_iterations, cg_converged] =
+          im.chordSolve(kChordRelativeTolerance,
+                        kChordAbsoluteTolerance * options_.function_tolerance * chi2, chord_budget);
       st.cg_iterations = cg_iterations;
       chord_converged = cg_converged;
       if (cg_iterations > 0) {

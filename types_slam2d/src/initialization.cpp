@@ -156,7 +156,10 @@ void addResidual(PairSystem& sys, const std::array<LinearTerm, K>& terms, double
   }
 }
 
-/// [v_x -v_y; v_y v_x]: R(theta) v = vecMatrix(v) (cos theta, sin theta).
+/// (cos theta, sin theta): a rotation as a vector of R^2.
+Eigen::Vector2d unitVector(double theta) { return {std::cos(theta), std::sin(theta)}; }
+
+/// [v_x -v_y; v_y v_x]: R(theta) v = vecMatrix(v) unitVector(theta).
 Eigen::Matrix2d vecMatrix(const Eigen::Vector2d& v) {
   Eigen::Matrix2d m;
   m << v.x(), -v.y(), v.y(), v.x();
@@ -172,18 +175,16 @@ bool jointOrientations(const std::vector<VertexSE2*>& poses,
                        const std::vector<const EdgeSE2*>& relative,
                        const std::vector<std::pair<int, int>>& ends,
                        const std::vector<std::pair<const EdgeSE2XY*, int>>& observations,
+                       const std::vector<int>& obs_landmark, int num_landmarks,
                        const std::vector<std::pair<const EdgePriorSE2*, int>>& priors,
                        const std::vector<int>& var, int nv, std::vector<double>& theta,
                        SpdSolver& spd) {
   // Unknowns (2-vectors): t_i at var[i], r_i at nv + var[i], free landmarks from 2 nv.
-  std::unordered_map<const Vertex*, int> lm;
+  const int unknowns = 2 * nv + num_landmarks;
   std::vector<int> obs_lm(observations.size(), -1);
   for (std::size_t k = 0; k < observations.size(); ++k) {
-    const Vertex* l = observations[k].first->vertex(1);
-    if (l->fixed()) continue;
-    obs_lm[k] = lm.emplace(l, 2 * nv + static_cast<int>(lm.size())).first->second;
+    if (obs_landmark[k] >= 0) obs_lm[k] = 2 * nv + obs_landmark[k];
   }
-  const int unknowns = 2 * nv + static_cast<int>(lm.size());
   auto t_of = [&](int i) { return var[i]; };
   auto r_of = [&](int i) { return var[i] < 0 ? -1 : nv + var[i]; };
   std::vector<std::pair<int, int>> pairs;
@@ -206,10 +207,7 @@ bool jointOrientations(const std::vector<VertexSE2*>& poses,
   PairSystem sys(unknowns, pairs);
   const Eigen::Matrix2d id = Eigen::Matrix2d::Identity();
   auto t_known = [&](int i) { return Eigen::Vector2d(poses[i]->estimate().translation()); };
-  auto r_known = [&](int i) {
-    return Eigen::Vector2d(std::cos(poses[i]->estimate().angle()),
-                           std::sin(poses[i]->estimate().angle()));
-  };
+  auto r_known = [&](int i) { return unitVector(poses[i]->estimate().angle()); };
   for (std::size_t k = 0; k < relative.size(); ++k) {
     const EdgeSE2* e = relative[k];
     const auto [u, v] = ends[k];
@@ -238,9 +236,7 @@ bool jointOrientations(const std::vector<VertexSE2*>& poses,
     const SE2& z = prior->measurement();
     addResidual<2>(sys, {{{t_of(i), id, t_known(i)}, {-1, id, -z.translation()}}},
                    0.5 * prior->information().topLeftCorner<2, 2>().trace());
-    addResidual<2>(sys,
-                   {{{r_of(i), id, r_known(i)},
-                     {-1, id, -Eigen::Vector2d(std::cos(z.angle()), std::sin(z.angle()))}}},
+    addResidual<2>(sys, {{{r_of(i), id, r_known(i)}, {-1, id, -unitVector(z.angle())}}},
                    prior->information()(2, 2));
   }
   Eigen::VectorXd x;
@@ -368,6 +364,18 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   // odometry alone lets drift (victoria_park: chi2 of the initial guess 1.1e7 without
   // them, 7.3e3 with them). Only the normalised r_i are kept: step 2 places poses and
   // landmarks again with them.
+  // Free landmarks in the order of their first observation: obs_landmark[k] is the
+  // index of observation k's landmark, -1 when it is fixed (both systems number them so).
+  std::unordered_map<const Vertex*, int> landmark_index;
+  std::vector<VertexXY*> landmarks;
+  std::vector<int> obs_landmark(observations.size(), -1);
+  for (std::size_t k = 0; k < observations.size(); ++k) {
+    const Vertex* l = observations[k].first->vertex(1);
+    if (l->fixed()) continue;
+    auto [it, inserted] = landmark_index.emplace(l, static_cast<int>(landmarks.size()));
+    if (inserted) landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
+    obs_landmark[k] = it->second;
+  }
   std::vector<int> var(static_cast<std::size_t>(n), -1);
   int nv = 0;
   for (int i = 0; i < n; ++i) {
@@ -383,15 +391,14 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     if (var[i] >= 0 && var[j] >= 0) pairs.emplace_back(var[i], var[j]);
   }
   if (nv > 0 && !observations.empty()) {
-    if (!jointOrientations(pose_vertices, relative, ends, observations, priors, var, nv, theta,
-                           spd)) {
+    if (!jointOrientations(pose_vertices, relative, ends, observations, obs_landmark,
+                           static_cast<int>(landmarks.size()), priors, var, nv, theta, spd)) {
       report.message = "orientation system (with landmarks) is singular: initial estimates kept";
       return report;
     }
   } else if (nv > 0) {
     PairSystem sys(nv, pairs);
     Eigen::VectorXd& rhs = sys.rhs();
-    auto unit = [](double t) { return Eigen::Vector2d(std::cos(t), std::sin(t)); };
     for (std::size_t k = 0; k < relative.size(); ++k) {
       const EdgeSE2* edge = relative[k];
       const auto [u, v] = ends[k];
@@ -404,16 +411,16 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
       if (a >= 0 && b >= 0) {
         sys.add(a, b, -w * q.transpose());
       } else if (a >= 0) {
-        rhs.segment<2>(2 * a) += w * q.transpose() * unit(theta[v]);
+        rhs.segment<2>(2 * a) += w * q.transpose() * unitVector(theta[v]);
       } else if (b >= 0) {
-        rhs.segment<2>(2 * b) += w * q * unit(theta[u]);
+        rhs.segment<2>(2 * b) += w * q * unitVector(theta[u]);
       }
     }
     for (const auto& [prior, i] : priors) {
       if (var[i] < 0) continue;
       const double w = prior->information()(2, 2);
       sys.add(var[i], var[i], w * Eigen::Matrix2d::Identity());
-      rhs.segment<2>(2 * var[i]) += w * unit(prior->measurement().angle());
+      rhs.segment<2>(2 * var[i]) += w * unitVector(prior->measurement().angle());
     }
     Eigen::VectorXd r;
     if (!spd.solve(sys, r)) {
@@ -426,17 +433,12 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
-  std::unordered_map<const Vertex*, int> lm_var;
-  std::vector<VertexXY*> landmarks;
   std::vector<int> obs_var(observations.size(), -1);  // the landmark's unknown, -1: fixed
   for (std::size_t k = 0; k < observations.size(); ++k) {
-    const Vertex* l = observations[k].first->vertex(1);
-    if (l->fixed()) continue;
-    auto [it, inserted] = lm_var.emplace(l, nv + static_cast<int>(landmarks.size()));
-    if (inserted) landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
-    obs_var[k] = it->second;
+    if (obs_landmark[k] < 0) continue;
+    obs_var[k] = nv + obs_landmark[k];
     const int a = var[observations[k].second];
-    if (a >= 0) pairs.emplace_back(a, it->second);
+    if (a >= 0) pairs.emplace_back(a, obs_var[k]);
   }
   const int nt = nv + static_cast<int>(landmarks.size());
   if (nt > 0) {
