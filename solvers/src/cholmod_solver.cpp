@@ -54,14 +54,21 @@ void* prefaultingCalloc(std::size_t count, std::size_t size) {
 /// at the optimizer's CSC arrays (upper triangle, stype = 1). A complex solver takes a
 /// Hermitian matrix: values, right-hand side and solution are interleaved complex numbers
 /// (re, im), two doubles per entry of the pattern and per unknown.
+///
+/// A pre-permuted solver takes the LOWER triangle of a matrix its caller has already put
+/// in its fill-reducing (and postordered) order, and only the identity order: CHOLMOD then
+/// factorises the caller's arrays as they are, without the permuted transposed copy it
+/// otherwise makes in every factorisation.
 class CholmodSolver final : public detail::OrderedSolver {
  public:
-  CholmodSolver(std::string name, bool supernodal, Ordering ordering, bool complex = false)
+  CholmodSolver(std::string name, bool supernodal, Ordering ordering, bool complex = false,
+                bool prepermuted_lower = false)
       : name_(std::move(name)),
         supernodal_(supernodal),
         ordering_(ordering),
         xtype_(complex ? CHOLMOD_COMPLEX : CHOLMOD_REAL),
-        scalars_(complex ? 2 : 1) {
+        scalars_(complex ? 2 : 1),
+        prepermuted_lower_(prepermuted_lower) {
     cholmod_start(&common_);
     static std::once_flag hooks;
     std::call_once(hooks, [] {
@@ -71,8 +78,10 @@ class CholmodSolver final : public detail::OrderedSolver {
     common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
     common_.nmethods = 1;
-    common_.method[0].ordering = CHOLMOD_GIVEN;
-    common_.postorder = 1;
+    common_.method[0].ordering = prepermuted_lower_ ? CHOLMOD_NATURAL : CHOLMOD_GIVEN;
+    // A postorder would turn the natural order into a permuted one (and bring the copy
+    // back): the caller postorders.
+    common_.postorder = prepermuted_lower_ ? 0 : 1;
     common_.quick_return_if_not_posdef = 1;
     common_.print = 0;
     common_.error_handler = nullptr;
@@ -98,15 +107,25 @@ class CholmodSolver final : public detail::OrderedSolver {
     a_.nzmax = s.nnz();
     a_.p = const_cast<int*>(s.col_ptr);  // CHOLMOD reads the pattern, never writes it
     a_.i = const_cast<int*>(s.row_idx);
-    a_.stype = 1;
+    a_.stype = prepermuted_lower_ ? -1 : 1;
     a_.itype = CHOLMOD_INT;
     a_.xtype = CHOLMOD_PATTERN;
     a_.dtype = CHOLMOD_DOUBLE;
     a_.sorted = 1;
     a_.packed = 1;
     perm_ = std::move(order);
+    if (prepermuted_lower_) {
+      for (std::size_t k = 0; k < perm_.size(); ++k) {
+        if (perm_[k] != static_cast<int>(k)) {
+          return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                             "cholmod: a pre-permuted matrix takes the identity "
+                                             "order only");
+        }
+      }
+    }
     const detail::SerialOpenMp serial;
-    factor_ = cholmod_analyze_p(&a_, perm_.data(), nullptr, 0, &common_);
+    factor_ =
+        cholmod_analyze_p(&a_, prepermuted_lower_ ? nullptr : perm_.data(), nullptr, 0, &common_);
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
@@ -216,6 +235,7 @@ class CholmodSolver final : public detail::OrderedSolver {
   Ordering ordering_;
   int xtype_;                        // CHOLMOD_REAL or CHOLMOD_COMPLEX
   int scalars_;                      // doubles per value
+  bool prepermuted_lower_;           // lower triangle, already in factor order
   mutable cholmod_common common_{};  // CHOLMOD statistics change in const queries
   cholmod_sparse a_{};
   cholmod_factor* factor_ = nullptr;
@@ -229,14 +249,16 @@ class CholmodSolver final : public detail::OrderedSolver {
 
 }  // namespace
 
-std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering) {
+std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering,
+                                                         bool prepermuted_lower) {
   return std::make_unique<CholmodSolver>(supernodal ? "cholmod" : "cholmod-simplicial", supernodal,
-                                         ordering);
+                                         ordering, false, prepermuted_lower);
 }
 
-std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal,
-                                                                Ordering ordering) {
-  return std::make_unique<CholmodSolver>("cholmod-complex", supernodal, ordering, true);
+std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering,
+                                                                bool prepermuted_lower) {
+  return std::make_unique<CholmodSolver>("cholmod-complex", supernodal, ordering, true,
+                                         prepermuted_lower);
 }
 
 }  // namespace graphslam::solvers

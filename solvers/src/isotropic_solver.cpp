@@ -14,9 +14,11 @@
 // orientation system of the SE(2) initial guess (chordal relaxation: rotations as unit
 // vectors, an edge asks r_j = R r_i) has this form. CHOLMOD factorises M as a complex
 // matrix: half the memory of the 2x2 block factor and half its flops.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -65,26 +67,27 @@ class IsotropicSolver final : public detail::OrderedSolver {
             s.block_starts[b]);
       }
     }
-    // Scalar pattern of H_s: block (r, c), r <= c, is entry (r, c); its value is H's
-    // entry at the block's (0, 0), at the position of row r*d in column c*d.
-    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
-    row_idx_.clear();
-    source_.clear();
-    source01_.clear();
+    // Entries of H_s: block (r, c), r <= c, is entry (r, c); its value is H's entry at the
+    // block's (0, 0), at the position of row r*d in column c*d; a conformal block's
+    // imaginary part is its (0, 1) entry, at the same place in the next column.
+    entry_row_.clear();
+    entry_col_.clear();
+    entry_pos_.clear();
+    entry_pos01_.clear();
     for (int c = 0; c < nb_; ++c) {
       const int col = c * d_;
+      int stored = 0;
       for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; ++p) {
         const int row = s.row_idx[p];
         if (row % d_ != 0 || row > col) continue;
-        row_idx_.push_back(row / d_);
-        source_.push_back(p);
-        // The block's (0, 1) entry: the same place in the next column (complete blocks).
-        if (conformal_) source01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
+        ++stored;
+        entry_row_.push_back(row / d_);
+        entry_col_.push_back(c);
+        entry_pos_.push_back(p);
+        if (conformal_) entry_pos01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
       }
-      col_ptr_[c + 1] = static_cast<int>(row_idx_.size());
-      const int stored = (col_ptr_[c + 1] - col_ptr_[c]) * d_;
       for (int j = 0; j < d_; ++j) {
-        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored) {
+        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored * d_) {
           return LinearSolverResult::failure(
               LinearSolverStatus::kFailure,
               "isotropic: column " + std::to_string(col + j) +
@@ -94,34 +97,47 @@ class IsotropicSolver final : public detail::OrderedSolver {
       }
     }
     h_ = s;
-    block_starts_.resize(static_cast<std::size_t>(nb_) + 1);
-    for (int b = 0; b <= nb_; ++b) block_starts_[b] = b;
-    scalar_.n = nb_;
-    scalar_.col_ptr = col_ptr_.data();
-    scalar_.row_idx = row_idx_.data();
-    scalar_.block_starts = block_starts_.data();
-    scalar_.num_blocks = nb_;
-    // The block order (every d-th scalar column of the block-expanded order).
-    std::vector<int> block_order;
-    block_order.reserve(static_cast<std::size_t>(nb_));
+    // The block order (every d-th scalar column of the block-expanded order). H_s is laid
+    // out in that order (B = P H_s P^T), postordered by its elimination tree, so that the
+    // inner solver factorises B in its natural order and never permutes.
+    block_order_.clear();
+    block_order_.reserve(static_cast<std::size_t>(nb_));
     for (std::size_t k = 0; k < order.size(); k += static_cast<std::size_t>(d_)) {
-      block_order.push_back(order[k] / d_);
+      block_order_.push_back(order[k] / d_);
     }
-    const detail::SymbolicCost cost = detail::symbolicCost(scalar_, block_order);
+    buildPermuted(false);
+    std::vector<int> parent;
+    detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent);
+    const std::vector<int> post = detail::postorder(parent);
+    bool postordered = true;
+    for (int k = 0; k < nb_ && postordered; ++k) postordered = post[k] == k;
+    if (!postordered) {  // the same fill, with each subtree's columns contiguous
+      std::vector<int> composed(static_cast<std::size_t>(nb_));
+      for (int k = 0; k < nb_; ++k) composed[k] = block_order_[post[k]];
+      block_order_ = std::move(composed);
+      buildPermuted(false);
+    }
+    std::vector<int> identity(static_cast<std::size_t>(nb_));
+    std::iota(identity.begin(), identity.end(), 0);
+    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
     if (conformal_) {
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-      // A complex multiply-add is four real ones.
-      inner_ = makeCholmodComplexSolver(4.0 * cost.flops > kSupernodalFlops, label);
+      // A complex multiply-add is four real ones. CHOLMOD takes B's lower triangle.
+      buildPermuted(true);
+      inner_ = makeCholmodComplexSolver(supernodal, label, true);
 #else
       return LinearSolverResult::failure(LinearSolverStatus::kFailure,
                                          "conformal: needs CHOLMOD (SuiteSparse)");
 #endif
     }
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    if (!inner_ && cost.flops > kSupernodalFlops) inner_ = makeCholmodSolver(true, label);
+    if (!inner_ && supernodal) {
+      buildPermuted(true);
+      inner_ = makeCholmodSolver(true, label, true);
+    }
 #endif
     if (!inner_) inner_ = makeEigenLdlt();
-    return inner_->analyzeOrdered(scalar_, std::move(block_order), label);
+    return inner_->analyzeOrdered(scalar_, std::move(identity), label);
   }
 
   LinearSolverResult factorize(const double* h) override {
@@ -139,21 +155,27 @@ class IsotropicSolver final : public detail::OrderedSolver {
     values_.resize(source_.size());
     for (std::size_t k = 0; k < source_.size(); ++k) values_[k] = h[source_[k]];
     LinearSolverResult r = inner_->factorize(values_.data());
-    if (!r.ok() && r.column >= 0) r.column *= d_;  // the vertex's first column in H
+    // B's column k is the vertex block_order_[k]: its first column in H.
+    if (!r.ok() && r.column >= 0) r.column = block_order_[r.column] * d_;
     return r;
   }
 
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
     // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
-    if (conformal_) return inner_->solve(rhs, x);
-    b_.resize(static_cast<std::size_t>(nb_));
-    y_.resize(static_cast<std::size_t>(nb_));
-    for (int j = 0; j < d_; ++j) {
-      for (int b = 0; b < nb_; ++b) b_[b] = rhs[b * d_ + j];
+    const int per = conformal_ ? 2 : 1;  // doubles per unknown of B
+    const int solves = conformal_ ? 1 : d_;
+    b_.resize(static_cast<std::size_t>(nb_) * per);
+    y_.resize(static_cast<std::size_t>(nb_) * per);
+    for (int j = 0; j < solves; ++j) {
+      for (int k = 0; k < nb_; ++k) {
+        for (int t = 0; t < per; ++t) b_[k * per + t] = rhs[block_order_[k] * d_ + j + t];
+      }
       const LinearSolverResult r = inner_->solve(b_.data(), y_.data());
       if (!r.ok()) return r;
-      for (int b = 0; b < nb_; ++b) x[b * d_ + j] = y_[b];
+      for (int k = 0; k < nb_; ++k) {
+        for (int t = 0; t < per; ++t) x[block_order_[k] * d_ + j + t] = y_[k * per + t];
+      }
     }
     return LinearSolverResult::success();
   }
@@ -176,16 +198,68 @@ class IsotropicSolver final : public detail::OrderedSolver {
               std::to_string(bad - bad % 2 + 1) + " is not of the form [a -b; b a]",
           bad);
     }
-    // Upper entry (r, c) of M: a + ib for H's block [a -b; b a]; b is read from the
-    // block's (0, 1) entry, which is stored for diagonal blocks too (and is 0 there).
+    // Entry (r, c), r <= c, of M: a + ib for H's block [a -b; b a]; b is read from the
+    // block's (0, 1) entry, which is stored for diagonal blocks too (and is 0 there). An
+    // entry the permutation moved to the other triangle is M(c, r) = conj(M(r, c)).
     values_.resize(2 * source_.size());
     for (std::size_t k = 0; k < source_.size(); ++k) {
       values_[2 * k] = h[source_[k]];
-      values_[2 * k + 1] = -h[source01_[k]];
+      values_[2 * k + 1] = imag_sign_[k] * h[source01_[k]];
     }
     LinearSolverResult r = inner_->factorize(values_.data());
-    if (!r.ok() && r.column >= 0) r.column *= 2;
+    if (!r.ok() && r.column >= 0) r.column = block_order_[r.column] * 2;
     return r;
+  }
+
+  /// Lays H_s out as B = P H_s P^T (P from block_order_), its upper triangle or (`lower`)
+  /// its lower one, rows sorted in every column, into scalar_, with the position in H's
+  /// values of every entry (source_, and source01_ / imag_sign_ for conformal blocks).
+  /// Two counting passes: the entries are bucketed by their row in B, then appended to
+  /// their columns row by row.
+  void buildPermuted(bool lower) {
+    std::vector<int> pos(static_cast<std::size_t>(nb_));
+    for (int k = 0; k < nb_; ++k) pos[block_order_[k]] = k;
+    const std::size_t m = entry_pos_.size();
+    std::vector<int> row_of(m), col_of(m);  // every entry's place in B
+    std::vector<int> row_start(static_cast<std::size_t>(nb_) + 1, 0);
+    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    for (std::size_t e = 0; e < m; ++e) {
+      const int a = pos[entry_row_[e]], b = pos[entry_col_[e]];
+      row_of[e] = lower ? std::max(a, b) : std::min(a, b);
+      col_of[e] = lower ? std::min(a, b) : std::max(a, b);
+      ++row_start[row_of[e] + 1];
+      ++col_ptr_[col_of[e] + 1];
+    }
+    for (int k = 0; k < nb_; ++k) {
+      row_start[k + 1] += row_start[k];
+      col_ptr_[k + 1] += col_ptr_[k];
+    }
+    std::vector<int> by_row(m);  // entries grouped by their row in B
+    for (std::size_t e = 0; e < m; ++e) by_row[row_start[row_of[e]]++] = static_cast<int>(e);
+    row_idx_.resize(m);
+    source_.resize(m);
+    source01_.resize(conformal_ ? m : 0);
+    imag_sign_.resize(conformal_ ? m : 0);
+    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
+    for (const int e : by_row) {  // rows in increasing order: sorted within every column
+      const int i = row_of[e];
+      const int at = next[col_of[e]]++;
+      row_idx_[at] = i;
+      source_[at] = entry_pos_[e];
+      if (conformal_) {
+        // B(i, j) = M(r, c) when row i holds r, else conj(M(r, c)); M's imaginary part
+        // is minus the block's (0, 1) entry.
+        source01_[at] = entry_pos01_[e];
+        imag_sign_[at] = pos[entry_row_[e]] == i ? -1.0 : 1.0;
+      }
+    }
+    block_starts_.resize(static_cast<std::size_t>(nb_) + 1);
+    std::iota(block_starts_.begin(), block_starts_.end(), 0);
+    scalar_.n = nb_;
+    scalar_.col_ptr = col_ptr_.data();
+    scalar_.row_idx = row_idx_.data();
+    scalar_.block_starts = block_starts_.data();
+    scalar_.num_blocks = nb_;
   }
 
   Ordering ordering_;
@@ -193,7 +267,11 @@ class IsotropicSolver final : public detail::OrderedSolver {
   std::unique_ptr<detail::OrderedSolver> inner_;
   int nb_ = 0, d_ = 1;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
+  // H_s's entries in H's order: block row, block column, positions in H's values.
+  std::vector<int> entry_row_, entry_col_, entry_pos_, entry_pos01_;
+  std::vector<int> block_order_;  // B's column k is H_s's column block_order_[k]
   std::vector<int> col_ptr_, row_idx_, source_, source01_, block_starts_;
+  std::vector<double> imag_sign_;
   SparseStructure scalar_;
   std::vector<double> values_, b_, y_;
 };

@@ -166,26 +166,43 @@ BlockGraph blockGraph(const SparseStructure& s) {
   // H's upper block column b lists its blocks (r, b), r <= b, d_r rows each, rows sorted
   // (every column of a block has the same pattern: the first is read). Column b of the
   // symmetric graph is those r, then every c > b whose column holds block (b, c), in
-  // increasing c: sorted, without a sort. Two passes: count, then fill.
+  // increasing c: sorted, without a sort. The upper rows are read once (a walk whose
+  // steps depend on the block sizes), then counted and transposed from that list.
   const int nb = s.num_blocks;
   const auto block = blockOfColumn(s.block_starts, nb, s.n);
+  const int d = nb > 0 ? s.block_starts[1] - s.block_starts[0] : 1;
+  bool uniform = true;  // every block of dimension d: fixed steps
+  for (int b = 1; b < nb && uniform; ++b) uniform = s.block_starts[b + 1] - s.block_starts[b] == d;
+  std::vector<int> upper_ptr(static_cast<std::size_t>(nb) + 1, 0);
+  std::vector<int> upper;  // block rows (<= b) of every block column b
+  if (uniform) upper.reserve(s.nnz() / static_cast<std::size_t>(d * d));
+  for (int b = 0; b < nb; ++b) {
+    const int c = s.block_starts[b];
+    const int end = s.col_ptr[c + 1];
+    if (uniform) {
+      for (int k = s.col_ptr[c]; k < end; k += d) {
+        const int rb = block[s.row_idx[k]];
+        if (rb > b) break;  // entries below the diagonal block (not stored in upper form)
+        upper.push_back(rb);
+      }
+    } else {
+      for (int k = s.col_ptr[c]; k < end;) {
+        const int rb = block[s.row_idx[k]];
+        if (rb > b) break;
+        upper.push_back(rb);
+        k += s.block_starts[rb + 1] - s.block_starts[rb];
+      }
+    }
+    upper_ptr[b + 1] = static_cast<int>(upper.size());
+  }
   BlockGraph g;
   g.num_blocks = nb;
   g.ptr.assign(static_cast<std::size_t>(nb) + 1, 0);
-  auto for_upper = [&](int b, auto&& visit) {
-    const int c = s.block_starts[b];
-    for (int k = s.col_ptr[c]; k < s.col_ptr[c + 1];) {
-      const int rb = block[s.row_idx[k]];
-      if (rb > b) break;  // entries below the diagonal block (not stored in upper form)
-      visit(rb);
-      k += s.block_starts[rb + 1] - s.block_starts[rb];
-    }
-  };
   for (int b = 0; b < nb; ++b) {
-    for_upper(b, [&](int rb) {
-      ++g.ptr[b + 1];
-      if (rb != b) ++g.ptr[rb + 1];
-    });
+    g.ptr[b + 1] += upper_ptr[b + 1] - upper_ptr[b];
+    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) {
+      if (upper[k] != b) ++g.ptr[upper[k] + 1];
+    }
   }
   for (int b = 0; b < nb; ++b) g.ptr[b + 1] += g.ptr[b];
   g.idx.resize(static_cast<std::size_t>(g.ptr[nb]));
@@ -193,12 +210,12 @@ BlockGraph blockGraph(const SparseStructure& s) {
   // Upper parts first (each column's own rows), then the transposed entries in column
   // order: column rb receives b's in increasing b, after its own upper rows.
   for (int b = 0; b < nb; ++b) {
-    for_upper(b, [&](int rb) { g.idx[next[b]++] = rb; });
+    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) g.idx[next[b]++] = upper[k];
   }
   for (int b = 0; b < nb; ++b) {
-    for_upper(b, [&](int rb) {
-      if (rb != b) g.idx[next[rb]++] = b;
-    });
+    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) {
+      if (upper[k] != b) g.idx[next[upper[k]]++] = b;
+    }
   }
   return g;
 }
@@ -230,6 +247,11 @@ std::vector<Ordering> availableOrderings() {
 }
 
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
+  if (ordering == Ordering::kNatural) {  // no graph needed
+    std::vector<int> perm(static_cast<std::size_t>(s.n));
+    std::iota(perm.begin(), perm.end(), 0);
+    return perm;
+  }
   return orderColumns(ordering, s, blockGraph(s));
 }
 

@@ -9,10 +9,16 @@
 
 namespace graphslam::solvers {
 
-std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering);
+/// CHOLMOD Cholesky of H given as its upper triangle, in any order. With
+/// `prepermuted_lower`, H is given as its lower triangle, already in its fill-reducing and
+/// postordered order, and analyzeOrdered() takes the identity order only: CHOLMOD then
+/// factorises the given arrays without copying them (ordering() is only a label).
+std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering,
+                                                         bool prepermuted_lower = false);
 /// CHOLMOD on a Hermitian matrix: values, right-hand side and solution interleaved
 /// complex (two doubles each); the structure counts complex entries and unknowns.
-std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering);
+std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering,
+                                                                bool prepermuted_lower = false);
 std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);

@@ -3,6 +3,43 @@
 
 namespace graphslam::solvers::detail {
 
+namespace {
+
+/// Elimination tree and cost of the factor of a pattern given by `neighbours(k, visit)`
+/// (visit(i) for every neighbour i of position k; those >= k are ignored) and the
+/// dimension of the block at every position.
+template <typename Neighbours, typename Dim>
+SymbolicCost costOf(int nb, Neighbours&& neighbours, Dim&& dim, std::vector<int>* parent_out) {
+  std::vector<int> parent = eliminationTree(nb, neighbours);
+  // Row subtrees: block row k of L holds every block on the tree paths from the
+  // neighbours i < k of k up to k; each visit adds k's rows to column i's count.
+  std::vector<double> below(static_cast<std::size_t>(nb), 0.0);  // scalar rows below the block
+  std::vector<int> flag(static_cast<std::size_t>(nb), -1);
+  for (int k = 0; k < nb; ++k) {
+    flag[k] = k;
+    const int dk = dim(k);
+    neighbours(k, [&](int r) {
+      for (int i = r; i < k && flag[i] != k; i = parent[i]) {
+        below[i] += dk;
+        flag[i] = k;
+      }
+    });
+  }
+  SymbolicCost cost;
+  for (int j = 0; j < nb; ++j) {
+    const int d = dim(j);
+    for (int t = 0; t < d; ++t) {
+      const double c = (d - t) + below[j];
+      cost.factor_nonzeros += c;
+      cost.flops += c * c;
+    }
+  }
+  if (parent_out) *parent_out = std::move(parent);
+  return cost;
+}
+
+}  // namespace
+
 SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& order) {
   return symbolicCost(s, blockGraph(s), order);
 }
@@ -26,38 +63,60 @@ SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
     const int b = old_of[pos];
     return s.block_starts[b + 1] - s.block_starts[b];
   };
-
-  const std::vector<int> parent = eliminationTree(nb, [&](int k, auto&& visit) {
+  auto neighbours = [&](int k, auto&& visit) {
     const int b = old_of[k];
     for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) visit(new_of[g.idx[p]]);
-  });
+  };
+  return costOf(nb, neighbours, dim, nullptr);
+}
 
-  // Row subtrees: block row k of L holds every block on the tree paths from the
-  // neighbours i < k of k up to k; each visit adds k's rows to column i's count.
-  std::vector<double> below(static_cast<std::size_t>(nb), 0.0);  // scalar rows below the block
-  std::vector<int> flag(static_cast<std::size_t>(nb), -1);
-  for (int k = 0; k < nb; ++k) {
-    flag[k] = k;
-    const int b = old_of[k];
-    const int dk = dim(k);
-    for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) {
-      for (int i = new_of[g.idx[p]]; i < k && flag[i] != k; i = parent[i]) {
-        below[i] += dk;
-        flag[i] = k;
+SymbolicCost symbolicCostNatural(const SparseStructure& s, std::vector<int>* parent) {
+  const int nb = s.num_blocks;
+  const std::vector<int> block = blockOfColumn(s.block_starts, nb, s.n);
+  auto dim = [&](int b) { return s.block_starts[b + 1] - s.block_starts[b]; };
+  // Block rows r < k of block column k: H's upper column k, every block's first row.
+  auto upper_neighbours = [&](int k, auto&& visit) {
+    const int c = s.block_starts[k];
+    for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1];) {
+      const int r = block[s.row_idx[p]];
+      if (r >= k) break;
+      visit(r);
+      p += dim(r);
+    }
+  };
+  return costOf(nb, upper_neighbours, dim, parent);
+}
+
+std::vector<int> postorder(const std::vector<int>& parent) {
+  const int n = static_cast<int>(parent.size());
+  // Children lists (head / next), built from the highest node down so that every list
+  // is in increasing order.
+  std::vector<int> head(static_cast<std::size_t>(n), -1), next(static_cast<std::size_t>(n), -1);
+  for (int j = n - 1; j >= 0; --j) {
+    if (parent[j] >= 0) {
+      next[j] = head[parent[j]];
+      head[parent[j]] = j;
+    }
+  }
+  std::vector<int> post;
+  post.reserve(static_cast<std::size_t>(n));
+  std::vector<int> stack;
+  for (int root = 0; root < n; ++root) {
+    if (parent[root] >= 0) continue;
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int j = stack.back();
+      if (head[j] >= 0) {  // descend into the next unvisited child
+        const int child = head[j];
+        head[j] = next[child];
+        stack.push_back(child);
+      } else {
+        post.push_back(j);
+        stack.pop_back();
       }
     }
   }
-
-  SymbolicCost cost;
-  for (int j = 0; j < nb; ++j) {
-    const int d = dim(j);
-    for (int t = 0; t < d; ++t) {
-      const double c = (d - t) + below[j];
-      cost.factor_nonzeros += c;
-      cost.flops += c * c;
-    }
-  }
-  return cost;
+  return post;
 }
 
 }  // namespace graphslam::solvers::detail

@@ -48,5 +48,12 @@ struct SymbolicCost {
 /// The same with H's block graph already built (blockGraph(s)).
 [[nodiscard]] SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
                                         const std::vector<int>& order);
+/// The same for the identity order, read from H's upper triangle alone (no block
+/// graph). If `parent` is given, it receives the block elimination tree (-1: a root).
+[[nodiscard]] SymbolicCost symbolicCostNatural(const SparseStructure& s,
+                                               std::vector<int>* parent = nullptr);
+
+/// A postorder of a forest (children in increasing order): post[k] = node at position k.
+[[nodiscard]] std::vector<int> postorder(const std::vector<int>& parent);
 
 }  // namespace graphslam::solvers::detail

@@ -744,30 +744,100 @@ TEST(Solvers_ChooseOrdering, MetisWinsOnLargeGridsSequentialAndConcurrent) {
 // the flops and memory of the real 2x2 block factor) when the factorisation is large
 // enough for CHOLMOD's supernodal one (on small systems block-llt is faster than CHOLMOD's
 // complex factorisation); a block of another form sends it back to the real factor.
+/// A grid's pattern with 2x2 blocks, stored complete: columns 2c and 2c+1 hold rows 2r,
+/// 2r+1 for every row r of grid column c.
+struct GridOfPairs {
+  std::vector<int> col_ptr{0}, row_idx, block_starts;
+  SparseStructure structure;
+
+  explicit GridOfPairs(const GridPattern& grid) {
+    for (int c = 0; c < grid.structure.n; ++c) {
+      for (int j = 0; j < 2; ++j) {
+        for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
+          row_idx.push_back(2 * grid.row_idx[k]);
+          row_idx.push_back(2 * grid.row_idx[k] + 1);
+        }
+        col_ptr.push_back(static_cast<int>(row_idx.size()));
+      }
+    }
+    for (int b = 0; b <= grid.structure.n; ++b) block_starts.push_back(2 * b);
+    structure.n = 2 * grid.structure.n;
+    structure.col_ptr = col_ptr.data();
+    structure.row_idx = row_idx.data();
+    structure.block_starts = block_starts.data();
+    structure.num_blocks = grid.structure.n;
+  }
+
+  /// max |H x - rhs| with H from the upper triangle and complete diagonal blocks.
+  [[nodiscard]] double residual(const std::vector<double>& values, const std::vector<double>& x,
+                                const std::vector<double>& rhs) const {
+    std::vector<double> hx(rhs.size(), 0.0);
+    for (int c = 0; c < structure.n; ++c) {
+      for (int k = col_ptr[c]; k < col_ptr[c + 1]; ++k) {
+        const int r = row_idx[k];
+        hx[r] += values[k] * x[c];
+        if (r / 2 != c / 2) hx[c] += values[k] * x[r];  // the mirrored off-diagonal block
+      }
+    }
+    double err = 0.0;
+    for (std::size_t i = 0; i < rhs.size(); ++i) err = std::max(err, std::abs(hx[i] - rhs[i]));
+    return err;
+  }
+};
+
+// The isotropic solver lays H_s out in its (postordered) fill-reducing order itself and
+// hands CHOLMOD the lower triangle, which CHOLMOD factorises without a permuted copy. Every
+// ordering must give the exact solution, and a failed pivot must name its vertex's first
+// column of H, through that order.
+TEST(Solvers_Isotropic, LargeSystemsAreFactorisedInTheirOrderAndNameTheFailingVertex) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  if (!registry.contains("cholmod")) GTEST_SKIP() << "the supernodal path needs CHOLMOD";
+  const GridPattern grid(120);  // 14400 vertices of dimension 2: supernodal in every order
+  const GridOfPairs pairs(grid);
+  const SparseStructure& s = pairs.structure;
+  // H = H_s (x) I_2: off-diagonal blocks -I, diagonal blocks 5 I (diagonally dominant).
+  std::vector<double> values(pairs.row_idx.size(), 0.0);
+  for (int c = 0; c < s.n; ++c) {
+    for (int k = pairs.col_ptr[c]; k < pairs.col_ptr[c + 1]; ++k) {
+      const int r = pairs.row_idx[k];
+      if (r % 2 == c % 2) values[k] = r / 2 == c / 2 ? 5.0 : -1.0;
+    }
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<double> rhs(static_cast<std::size_t>(s.n)), x(rhs.size());
+  for (double& r : rhs) r = uniform(rng);
+  const int bad_vertex = 7001;
+  for (const char* name : {"isotropic:natural", "isotropic:amd", "isotropic:metis"}) {
+    auto solver = registry.create(name);
+    ASSERT_TRUE(solver->analyze(s).ok()) << name;
+    ASSERT_TRUE(solver->factorize(values.data()).ok()) << name;
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok()) << name;
+    EXPECT_LT(pairs.residual(values, x, rhs), 1e-10) << name;
+    std::vector<double> indefinite = values;
+    for (int j = 0; j < 2; ++j) {  // the vertex's diagonal block becomes -50 I
+      const int col = 2 * bad_vertex + j;
+      for (int k = pairs.col_ptr[col]; k < pairs.col_ptr[col + 1]; ++k) {
+        if (pairs.row_idx[k] == col) indefinite[k] = -50.0;
+      }
+    }
+    const LinearSolverResult r = solver->factorize(indefinite.data());
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << name;
+    EXPECT_EQ(r.column, 2 * bad_vertex) << name << ": " << r.message;
+  }
+}
+
 TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   SolverRegistry registry;
   solvers::registerSolvers(registry);
   if (!registry.contains("cholmod")) GTEST_SKIP() << "the complex path needs CHOLMOD";
   const GridPattern grid(300);  // 90000 blocks of 2x2
-  // The grid with 2x2 blocks, stored complete: columns 2c and 2c+1 hold rows 2r, 2r+1 for
-  // every row r of grid column c.
-  std::vector<int> col_ptr{0}, row_idx, block_starts;
-  for (int c = 0; c < grid.structure.n; ++c) {
-    for (int j = 0; j < 2; ++j) {
-      for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
-        row_idx.push_back(2 * grid.row_idx[k]);
-        row_idx.push_back(2 * grid.row_idx[k] + 1);
-      }
-      col_ptr.push_back(static_cast<int>(row_idx.size()));
-    }
-  }
-  for (int b = 0; b <= grid.structure.n; ++b) block_starts.push_back(2 * b);
-  SparseStructure s;
-  s.n = 2 * grid.structure.n;
-  s.col_ptr = col_ptr.data();
-  s.row_idx = row_idx.data();
-  s.block_starts = block_starts.data();
-  s.num_blocks = grid.structure.n;
+  const GridOfPairs pairs(grid);
+  const std::vector<int>& col_ptr = pairs.col_ptr;
+  const std::vector<int>& row_idx = pairs.row_idx;
+  const SparseStructure& s = pairs.structure;
   // Off-diagonal blocks: rotations; diagonal blocks: (degree + 1) I (diagonally dominant).
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> angle(-3.0, 3.0);
@@ -791,23 +861,10 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   ASSERT_TRUE(solver->analyze(s).ok());
   ASSERT_TRUE(solver->factorize(values.data()).ok());
   EXPECT_NE(solver->name().find("(complex path)"), std::string::npos) << solver->name();
-  std::vector<double> rhs(static_cast<std::size_t>(s.n)), x(rhs.size()), hx(rhs.size(), 0.0);
+  std::vector<double> rhs(static_cast<std::size_t>(s.n)), x(rhs.size());
   for (double& r : rhs) r = angle(rng);
   ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
-  for (int c = 0; c < s.n; ++c) {  // H x from the upper triangle and complete blocks
-    for (int k = col_ptr[c]; k < col_ptr[c + 1]; ++k) {
-      const int r = row_idx[k];
-      if (r / 2 == c / 2) {
-        hx[r] += values[k] * x[c];  // the diagonal block, stored complete
-      } else {
-        hx[r] += values[k] * x[c];
-        hx[c] += values[k] * x[r];
-      }
-    }
-  }
-  double err = 0.0;
-  for (int i = 0; i < s.n; ++i) err = std::max(err, std::abs(hx[i] - rhs[i]));
-  EXPECT_LT(err, 1e-9);
+  EXPECT_LT(pairs.residual(values, x, rhs), 1e-9);
   // One block of another form: the real factor.
   values[col_ptr[2 * 200 + 1] - 2] = 5.5;  // a diagonal block 5.5, 5 on its diagonal
   ASSERT_TRUE(solver->factorize(values.data()).ok());
