@@ -106,9 +106,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
       block_order_.push_back(order[k] / d_);
     }
     buildPermuted(false);
-    std::vector<int> parent;
-    detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent);
-    const std::vector<int> post = detail::postorder(parent);
+    std::vector<int> parent, counts;
+    const detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
+    const std::vector<int> post = detail::postorder(parent, counts);
     bool postordered = true;
     for (int k = 0; k < nb_ && postordered; ++k) postordered = post[k] == k;
     if (!postordered) {  // the same fill, with each subtree's columns contiguous

@@ -1,15 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "symbolic.h"
 
+#include <algorithm>
+
 namespace graphslam::solvers::detail {
 
 namespace {
 
 /// Elimination tree and cost of the factor of a pattern given by `neighbours(k, visit)`
 /// (visit(i) for every neighbour i of position k; those >= k are ignored) and the
-/// dimension of the block at every position.
+/// dimension of the block at every position; optionally the tree and, per block, the
+/// scalar rows of L in its first column.
 template <typename Neighbours, typename Dim>
-SymbolicCost costOf(int nb, Neighbours&& neighbours, Dim&& dim, std::vector<int>* parent_out) {
+SymbolicCost costOf(int nb, Neighbours&& neighbours, Dim&& dim, std::vector<int>* parent_out,
+                    std::vector<int>* counts_out) {
   std::vector<int> parent = eliminationTree(nb, neighbours);
   // Row subtrees: block row k of L holds every block on the tree paths from the
   // neighbours i < k of k up to k; each visit adds k's rows to column i's count.
@@ -33,6 +37,10 @@ SymbolicCost costOf(int nb, Neighbours&& neighbours, Dim&& dim, std::vector<int>
       cost.factor_nonzeros += c;
       cost.flops += c * c;
     }
+  }
+  if (counts_out) {
+    counts_out->resize(static_cast<std::size_t>(nb));
+    for (int j = 0; j < nb; ++j) (*counts_out)[j] = dim(j) + static_cast<int>(below[j]);
   }
   if (parent_out) *parent_out = std::move(parent);
   return cost;
@@ -67,10 +75,11 @@ SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
     const int b = old_of[k];
     for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) visit(new_of[g.idx[p]]);
   };
-  return costOf(nb, neighbours, dim, nullptr);
+  return costOf(nb, neighbours, dim, nullptr, nullptr);
 }
 
-SymbolicCost symbolicCostNatural(const SparseStructure& s, std::vector<int>* parent) {
+SymbolicCost symbolicCostNatural(const SparseStructure& s, std::vector<int>* parent,
+                                 std::vector<int>* counts) {
   const int nb = s.num_blocks;
   const std::vector<int> block = blockOfColumn(s.block_starts, nb, s.n);
   auto dim = [&](int b) { return s.block_starts[b + 1] - s.block_starts[b]; };
@@ -84,15 +93,23 @@ SymbolicCost symbolicCostNatural(const SparseStructure& s, std::vector<int>* par
       p += dim(r);
     }
   };
-  return costOf(nb, upper_neighbours, dim, parent);
+  return costOf(nb, upper_neighbours, dim, parent, counts);
 }
 
-std::vector<int> postorder(const std::vector<int>& parent) {
+std::vector<int> postorder(const std::vector<int>& parent, const std::vector<int>& weight) {
   const int n = static_cast<int>(parent.size());
-  // Children lists (head / next), built from the highest node down so that every list
-  // is in increasing order.
+  // Nodes by decreasing weight (a counting sort; ties by decreasing index), each put in
+  // front of its parent's child list: every list is in increasing weight.
+  int max_weight = 0;
+  for (int w : weight) max_weight = std::max(max_weight, w);
+  std::vector<int> bucket(static_cast<std::size_t>(max_weight) + 2, 0);
+  for (int j = 0; j < n; ++j) ++bucket[weight[j] + 1];
+  for (int w = 0; w <= max_weight; ++w) bucket[w + 1] += bucket[w];
+  std::vector<int> by_weight(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) by_weight[bucket[weight[j]]++] = j;
   std::vector<int> head(static_cast<std::size_t>(n), -1), next(static_cast<std::size_t>(n), -1);
-  for (int j = n - 1; j >= 0; --j) {
+  for (int q = n - 1; q >= 0; --q) {
+    const int j = by_weight[q];
     if (parent[j] >= 0) {
       next[j] = head[parent[j]];
       head[parent[j]] = j;

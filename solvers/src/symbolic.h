@@ -49,11 +49,16 @@ struct SymbolicCost {
 [[nodiscard]] SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
                                         const std::vector<int>& order);
 /// The same for the identity order, read from H's upper triangle alone (no block
-/// graph). If `parent` is given, it receives the block elimination tree (-1: a root).
+/// graph). If given, `parent` receives the block elimination tree (-1: a root) and
+/// `counts` the scalar rows of L in every block's first column.
 [[nodiscard]] SymbolicCost symbolicCostNatural(const SparseStructure& s,
-                                               std::vector<int>* parent = nullptr);
+                                               std::vector<int>* parent = nullptr,
+                                               std::vector<int>* counts = nullptr);
 
-/// A postorder of a forest (children in increasing order): post[k] = node at position k.
-[[nodiscard]] std::vector<int> postorder(const std::vector<int>& parent);
+/// A postorder of a forest, weighted as CHOLMOD's: each node's children in increasing
+/// `weight` (column counts), so the heaviest child comes right before its parent and can
+/// share its supernode. post[k] = node at position k.
+[[nodiscard]] std::vector<int> postorder(const std::vector<int>& parent,
+                                         const std::vector<int>& weight);
 
 }  // namespace graphslam::solvers::detail
