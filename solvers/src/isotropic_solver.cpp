@@ -137,6 +137,10 @@ class IsotropicSolver final : public detail::OrderedSolver {
     }
 #endif
     if (!inner_) inner_ = makeEigenLdlt();
+    // The entry lists served only to lay B out (source_ maps B to H from now on).
+    for (auto* v : {&entry_row_, &entry_col_, &entry_pos_, &entry_pos01_}) {
+      std::vector<int>().swap(*v);
+    }
     return inner_->analyzeOrdered(scalar_, std::move(identity), label);
   }
 
