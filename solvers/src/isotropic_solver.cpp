@@ -105,7 +105,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
     for (std::size_t k = 0; k < order.size(); k += static_cast<std::size_t>(d_)) {
       block_order_.push_back(order[k] / d_);
     }
-    buildPermuted(false);
+    buildPermuted(false);  // B's upper triangle in the given order: its cost and tree
     std::vector<int> parent, counts;
     const detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
     const std::vector<int> post = detail::postorder(parent, counts);
@@ -115,28 +115,30 @@ class IsotropicSolver final : public detail::OrderedSolver {
       std::vector<int> composed(static_cast<std::size_t>(nb_));
       for (int k = 0; k < nb_; ++k) composed[k] = block_order_[post[k]];
       block_order_ = std::move(composed);
-      buildPermuted(false);
+    }
+    // A complex multiply-add is four real ones.
+    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+    if (conformal_) {
+      inner_ = makeCholmodComplexSolver(supernodal, label, true);
+    } else if (supernodal) {
+      inner_ = makeCholmodSolver(true, label, true);
+    }
+#else
+    static_cast<void>(supernodal);  // Eigen's simplicial LDL^T for every size
+    if (conformal_) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "conformal: needs CHOLMOD (SuiteSparse)");
+    }
+#endif
+    if (inner_) {
+      buildPermuted(true);  // CHOLMOD takes B's lower triangle
+    } else {
+      inner_ = makeEigenLdlt();
+      if (!postordered) buildPermuted(false);
     }
     std::vector<int> identity(static_cast<std::size_t>(nb_));
     std::iota(identity.begin(), identity.end(), 0);
-    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
-    if (conformal_) {
-#ifdef GRAPHSLAM_HAVE_CHOLMOD
-      // A complex multiply-add is four real ones. CHOLMOD takes B's lower triangle.
-      buildPermuted(true);
-      inner_ = makeCholmodComplexSolver(supernodal, label, true);
-#else
-      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                         "conformal: needs CHOLMOD (SuiteSparse)");
-#endif
-    }
-#ifdef GRAPHSLAM_HAVE_CHOLMOD
-    if (!inner_ && supernodal) {
-      buildPermuted(true);
-      inner_ = makeCholmodSolver(true, label, true);
-    }
-#endif
-    if (!inner_) inner_ = makeEigenLdlt();
     // The entry lists served only to lay B out (source_ maps B to H from now on).
     for (auto* v : {&entry_row_, &entry_col_, &entry_pos_, &entry_pos01_}) {
       std::vector<int>().swap(*v);
