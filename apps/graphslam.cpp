@@ -398,7 +398,7 @@ int main(int argc, char** argv) {
   // Large arrays (the factor, H, the graph's edge lists) come from mmap and go back to the
   // system when freed. glibc's default raises the mmap threshold to 32 MB after the first
   // such free, after which freed arrays below that stay in the heap: on a 1M-pose graph the
-  // initial guess's freed systems then add about 130 MB to the optimizer's peak.
+  // initial guess's freed systems then add about 110 MB to the optimizer's peak.
   mallopt(M_MMAP_THRESHOLD, 4 << 20);
   mallopt(M_TRIM_THRESHOLD, 4 << 20);
 #endif
