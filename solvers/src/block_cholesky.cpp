@@ -4,13 +4,18 @@
 // simplicial factorisation walks one entry at a time. Smaller vertices (landmarks of
 // dimension 2 among poses of dimension 3) are padded: the extra unknown gets a unit
 // diagonal and no coupling, so it solves to zero and leaves the others exact.
+// A dense trailing part of the factor (the last columns, each holding every row below it:
+// the landmarks of a landmark graph under AMD, the top separator of a pose graph) is
+// factorised as one dense matrix with Eigen's blocked LL^T, unpadded.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "common.h"
 #include "ordering.h"
@@ -22,6 +27,24 @@ namespace graphslam::solvers {
 int maxBlockSize(const SparseStructure& s);
 
 namespace {
+
+/// A dense trailing part of L of at least this many block columns is factorised densely.
+constexpr int kDenseTailMinBlocks = 16;
+
+/// First column of the dense matrix `a` (lower triangle) at which an unblocked LL^T finds a
+/// non-positive pivot; -1 when there is none. Only for naming the failure.
+Eigen::Index firstNonPositivePivot(Eigen::MatrixXd a) {
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    const Eigen::Index below = a.rows() - j - 1;
+    double d = a(j, j) - a.row(j).head(j).squaredNorm();
+    if (!(d > 0.0)) return j;
+    d = std::sqrt(d);
+    a(j, j) = d;
+    a.col(j).tail(below) =
+        (a.col(j).tail(below) - a.bottomLeftCorner(below, j) * a.row(j).head(j).transpose()) / d;
+  }
+  return -1;
+}
 
 /// L = blocks in column storage: column i holds its diagonal block, then one block per
 /// row k > i of its pattern, rows ascending. The row patterns are kept too (the up-looking
@@ -148,6 +171,13 @@ class BlockCholesky final : public detail::OrderedSolver {
         col_row_[next[i]++] = k;
       }
     }
+    // Dense tail: the last columns k >= tail_ each hold every row below them.
+    tail_ = nb_;
+    while (tail_ > 0 && count[tail_ - 1] == nb_ - tail_) --tail_;
+    if (nb_ - tail_ < kDenseTailMinBlocks) tail_ = nb_;
+    tail_start_.assign(1, 0);
+    for (int k = tail_; k < nb_; ++k) tail_start_.push_back(tail_start_.back() + dim(old_[k]));
+    tail_matrix_.resize(tail_start_.back(), tail_start_.back());
     // Every entry is written before it is read (factorize): no initialisation.
     values_.clear();
     values_.resize(static_cast<std::size_t>(col_ptr_[nb_]));
@@ -161,13 +191,19 @@ class BlockCholesky final : public detail::OrderedSolver {
   LinearSolverResult factorize(const double* h) override {
     if (col_ptr_.empty())
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    if (tail_ < nb_) tail_matrix_.setZero();
     for (int k = 0; k < nb_; ++k) {
+      const bool in_tail = k >= tail_;
       // y = A(k, 0..k) into work_ (the diagonal block too).
       for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) work_[row_idx_[q]].setZero();
       Block diag = Block::Zero();
       const int dk = dim(old_[k]);
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
         const AEntry& e = a_[q];
+        if (in_tail && e.row >= tail_) {
+          addToTail(h, e, k);
+          continue;
+        }
         Block blk;
         if (uniform_ || (e.rows == B && e.cols == B)) {
           blk = Eigen::Map<const Block, 0, Eigen::OuterStride<>>(h + e.first,
@@ -190,16 +226,28 @@ class BlockCholesky final : public detail::OrderedSolver {
       }
       for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
         const int i = row_idx_[q];
+        // In the tail, L(k, i) of the columns i before it only; the tail's own columns
+        // are the dense factorisation's (below).
+        if (i >= tail_) continue;
         // L(k, i) = y_i L(i, i)^{-T}, with the inverse kept from column i's factorisation
         // (a fixed-size product; Eigen's triangular solve takes its general path here).
         const Block lki = work_[i] * inverse_[i].transpose();
         values_[entry_[q]] = lki;
-        // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i)).
-        for (int e = col_ptr_[i] + 1; e < entry_[q]; ++e) {
+        // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i));
+        // rows p in the tail go to the dense matrix, which then holds
+        // A_TT - L_T,<tail L_T,<tail^T.
+        int e = col_ptr_[i] + 1;
+        for (; e < entry_[q] && col_row_[e] < tail_; ++e) {
           work_[col_row_[e]].noalias() -= lki * values_[e].transpose();
+        }
+        if (in_tail) {
+          for (; e < entry_[q]; ++e) subtractFromTail(lki, values_[e], k, col_row_[e]);
+          subtractFromTail(lki, lki, k, k);
+          continue;
         }
         diag.noalias() -= lki * lki.transpose();
       }
+      if (in_tail) continue;
       for (int t = dk; t < B; ++t) diag(t, t) = 1.0;  // padding
       Eigen::LLT<Block> llt(diag);
       if (llt.info() != Eigen::Success) {
@@ -209,6 +257,7 @@ class BlockCholesky final : public detail::OrderedSolver {
       values_[col_ptr_[k]] = llt.matrixL();
       inverse_[k] = values_[col_ptr_[k]].inverse();  // closed form for fixed 2x2 / 3x3
     }
+    if (tail_ < nb_) return factorizeTail();
     return LinearSolverResult::success();
   }
 
@@ -220,13 +269,27 @@ class BlockCholesky final : public detail::OrderedSolver {
       y[k].setZero();
       y[k].head(dim(b)) = Eigen::Map<const Eigen::VectorXd>(rhs + start_[b], dim(b));
     }
-    for (int i = 0; i < nb_; ++i) {  // L y = b, by columns
+    for (int i = 0; i < tail_; ++i) {  // L y = b, by columns
       y[i] = inverse_[i] * y[i];
       for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
         y[col_row_[e]].noalias() -= values_[e] * y[i];
       }
     }
-    for (int i = nb_ - 1; i >= 0; --i) {  // L^T x = y
+    if (tail_ < nb_) {  // the dense tail, both ways
+      Eigen::VectorXd& t = tail_rhs_;
+      t.resize(tail_matrix_.rows());
+      for (int k = tail_; k < nb_; ++k) {
+        const int d = tail_start_[k - tail_ + 1] - tail_start_[k - tail_];
+        t.segment(tail_start_[k - tail_], d) = y[k].head(d);
+      }
+      tail_matrix_.triangularView<Eigen::Lower>().solveInPlace(t);
+      tail_matrix_.triangularView<Eigen::Lower>().transpose().solveInPlace(t);
+      for (int k = tail_; k < nb_; ++k) {
+        const int d = tail_start_[k - tail_ + 1] - tail_start_[k - tail_];
+        y[k].head(d) = t.segment(tail_start_[k - tail_], d);
+      }
+    }
+    for (int i = tail_ - 1; i >= 0; --i) {  // L^T x = y
       for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
         y[i].noalias() -= values_[e].transpose() * y[col_row_[e]];
       }
@@ -264,6 +327,73 @@ class BlockCholesky final : public detail::OrderedSolver {
     bool transposed;
   };
 
+  /// Position of tail block column k in the dense tail matrix, and its dimension.
+  int tailAt(int k) const { return tail_start_[k - tail_]; }
+  int tailDim(int k) const { return tail_start_[k - tail_ + 1] - tail_start_[k - tail_]; }
+
+  /// Adds H's block of entry e (both rows and column in the tail; column k) to the dense
+  /// tail matrix's lower triangle.
+  void addToTail(const double* h, const AEntry& e, int k) {
+    const double* src = h + e.first;
+    // H's block is e.rows x e.cols; in the new order its rows are block e.row's and its
+    // columns block k's, or (transposed) its rows block k's and its columns e.row's.
+    for (int j = 0; j < e.cols; ++j) {
+      for (int i = 0; i < e.rows; ++i) {
+        const double v = src[i + j * e.stride];
+        int r = 0, c = 0;
+        if (e.transposed) {
+          r = tailAt(k) + i;
+          c = tailAt(e.row) + j;
+        } else {
+          r = tailAt(e.row) + i;
+          c = tailAt(k) + j;
+        }
+        if (r >= c) tail_matrix_(r, c) = v;  // the lower triangle (both for a diagonal
+        if (c >= r) tail_matrix_(c, r) = v;  // block, which H stores full)
+      }
+    }
+  }
+
+  /// Tail matrix block (k, p), p <= k, -= L(k, i) L(p, i)^T, unpadded: fixed-size
+  /// products for every pair of vertex dimensions (1..B).
+  void subtractFromTail(const Block& lki, const Block& lpi, int k, int p) {
+    double* dst = tail_matrix_.data() + tailAt(k) + tailAt(p) * tail_matrix_.rows();
+    const int dk = tailDim(k), dp = tailDim(p);
+    dispatchDim(dk, [&](auto rows) {
+      dispatchDim(dp, [&](auto cols) {
+        constexpr int R = decltype(rows)::value, C = decltype(cols)::value;
+        Eigen::Map<Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>> m(
+            dst, Eigen::OuterStride<>(tail_matrix_.rows()));
+        m.noalias() -= lki.template topRows<R>() * lpi.template topRows<C>().transpose();
+      });
+    });
+  }
+  /// f(std::integral_constant<int, d>) for d in 1..B.
+  template <typename F>
+  static void dispatchDim(int d, F&& f) {
+    if (d == B) {
+      f(std::integral_constant<int, B>{});
+    } else if constexpr (B > 1) {
+      if (d == 1) f(std::integral_constant<int, 1>{});
+      if constexpr (B > 2) {
+        if (d == 2) f(std::integral_constant<int, 2>{});
+      }
+    }
+  }
+
+  /// Dense LL^T of the tail matrix (A_TT less the updates of the columns before it), in
+  /// place; a failure names the first column of the vertex whose pivot failed.
+  LinearSolverResult factorizeTail() {
+    tail_copy_ = tail_matrix_;
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(tail_matrix_);
+    if (llt.info() == Eigen::Success) return LinearSolverResult::success();
+    const Eigen::Index bad = firstNonPositivePivot(tail_copy_);
+    int k = tail_;
+    while (k + 1 < nb_ && bad >= 0 && tail_start_[k - tail_ + 1] <= bad) ++k;
+    return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                       "non-positive pivot block", start_[old_[k]]);
+  }
+
   int nb_ = 0;
   int n_ = 0;
   bool uniform_ = true;
@@ -277,6 +407,11 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<Block, Eigen::aligned_allocator<Block>> work_;
   std::vector<Block, Eigen::aligned_allocator<Block>> inverse_;  // L(k, k)^{-1}
   std::vector<Vec> y_;
+  int tail_ = 0;                 // first block column of the dense tail (nb_: none)
+  std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
+  Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
+  Eigen::MatrixXd tail_copy_;    // before the factorisation (to name a failure)
+  Eigen::VectorXd tail_rhs_;
 };
 
 /// Picks the block size at analysis: the largest vertex dimension (2 or 3; 1 is padded to 2).
