@@ -5,7 +5,7 @@
 // dimension 2 among poses of dimension 3) are padded: the extra unknown gets a unit
 // diagonal and no coupling, so it solves to zero and leaves the others exact.
 // A dense trailing part of the factor (the last columns, each holding every row below it:
-// the landmarks of a landmark graph under AMD, the top separator of a pose graph) is
+// the landmarks of a landmark graph under AMD) made largely of padded vertices is
 // factorised as one dense matrix with Eigen's blocked LL^T, unpadded.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -28,8 +28,10 @@ int maxBlockSize(const SparseStructure& s);
 
 namespace {
 
-/// A dense trailing part of L of at least this many block columns is factorised densely.
+/// A dense trailing part of L of at least this many block columns, whose vertices are
+/// smaller than B by at least this fraction of its padded size, is factorised densely.
 constexpr int kDenseTailMinBlocks = 16;
+constexpr double kDenseTailMinPadding = 0.2;
 
 /// First column of the dense matrix `a` (lower triangle) at which an unblocked LL^T finds a
 /// non-positive pivot; -1 when there is none. Only for naming the failure.
@@ -171,12 +173,19 @@ class BlockCholesky final : public detail::OrderedSolver {
         col_row_[next[i]++] = k;
       }
     }
-    // Dense tail: the last columns k >= tail_ each hold every row below them.
+    // Dense tail: the last columns k >= tail_ each hold every row below them. Kept when
+    // it is long enough and padding would be at least kDenseTailMinPadding of it (of B x B
+    // blocks, the up-looking loop is as fast as the dense factorisation).
     tail_ = nb_;
     while (tail_ > 0 && count[tail_ - 1] == nb_ - tail_) --tail_;
-    if (nb_ - tail_ < kDenseTailMinBlocks) tail_ = nb_;
     tail_start_.assign(1, 0);
     for (int k = tail_; k < nb_; ++k) tail_start_.push_back(tail_start_.back() + dim(old_[k]));
+    const double padded = static_cast<double>(B) * (nb_ - tail_);
+    if (nb_ - tail_ < kDenseTailMinBlocks ||
+        tail_start_.back() > (1.0 - kDenseTailMinPadding) * padded) {
+      tail_ = nb_;
+      tail_start_.assign(1, 0);
+    }
     tail_matrix_.resize(tail_start_.back(), tail_start_.back());
     // Every entry is written before it is read (factorize): no initialisation.
     values_.clear();
