@@ -33,9 +33,9 @@ namespace {
 constexpr int kDenseTailMinBlocks = 16;
 constexpr double kDenseTailMinPadding = 0.2;
 
-/// First column of the dense matrix `a` (lower triangle) at which an unblocked LL^T finds a
-/// non-positive pivot; -1 when there is none. Only for naming the failure.
-Eigen::Index firstNonPositivePivot(Eigen::MatrixXd a) {
+/// First column of the dense matrix `a` (lower triangle) at which an unblocked LL^T, in
+/// place, finds a non-positive pivot; -1 when there is none. Only for naming a failure.
+Eigen::Index firstNonPositivePivot(Eigen::MatrixXd& a) {
   for (Eigen::Index j = 0; j < a.cols(); ++j) {
     const Eigen::Index below = a.rows() - j - 1;
     double d = a(j, j) - a.row(j).head(j).squaredNorm();
@@ -200,6 +200,22 @@ class BlockCholesky final : public detail::OrderedSolver {
   LinearSolverResult factorize(const double* h) override {
     if (col_ptr_.empty())
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    const LinearSolverResult r = factorizeColumns(h);
+    if (!r.ok() || tail_ == nb_) return r;
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(tail_matrix_);
+    if (llt.info() == Eigen::Success) return LinearSolverResult::success();
+    // Name the vertex of the failing pivot: the tail matrix once more, factorised by an
+    // unblocked pass that stops there (only on failure).
+    (void)factorizeColumns(h);
+    const Eigen::Index bad = firstNonPositivePivot(tail_matrix_);
+    int k = tail_;
+    while (k + 1 < nb_ && bad >= 0 && tail_start_[k - tail_ + 1] <= bad) ++k;
+    return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                       "non-positive pivot block", start_[old_[k]]);
+  }
+
+  /// The block columns before the tail, and the tail matrix A_TT - L_T,<tail L_T,<tail^T.
+  LinearSolverResult factorizeColumns(const double* h) {
     if (tail_ < nb_) tail_matrix_.setZero();
     for (int k = 0; k < nb_; ++k) {
       const bool in_tail = k >= tail_;
@@ -266,7 +282,6 @@ class BlockCholesky final : public detail::OrderedSolver {
       values_[col_ptr_[k]] = llt.matrixL();
       inverse_[k] = values_[col_ptr_[k]].inverse();  // closed form for fixed 2x2 / 3x3
     }
-    if (tail_ < nb_) return factorizeTail();
     return LinearSolverResult::success();
   }
 
@@ -390,19 +405,6 @@ class BlockCholesky final : public detail::OrderedSolver {
     }
   }
 
-  /// Dense LL^T of the tail matrix (A_TT less the updates of the columns before it), in
-  /// place; a failure names the first column of the vertex whose pivot failed.
-  LinearSolverResult factorizeTail() {
-    tail_copy_ = tail_matrix_;
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(tail_matrix_);
-    if (llt.info() == Eigen::Success) return LinearSolverResult::success();
-    const Eigen::Index bad = firstNonPositivePivot(tail_copy_);
-    int k = tail_;
-    while (k + 1 < nb_ && bad >= 0 && tail_start_[k - tail_ + 1] <= bad) ++k;
-    return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
-                                       "non-positive pivot block", start_[old_[k]]);
-  }
-
   int nb_ = 0;
   int n_ = 0;
   bool uniform_ = true;
@@ -419,7 +421,6 @@ class BlockCholesky final : public detail::OrderedSolver {
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
   Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
-  Eigen::MatrixXd tail_copy_;    // before the factorisation (to name a failure)
   Eigen::VectorXd tail_rhs_;
 };
 
