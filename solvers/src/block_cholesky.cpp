@@ -209,7 +209,7 @@ class BlockCholesky final : public detail::OrderedSolver {
     (void)factorizeColumns(h);
     const Eigen::Index bad = firstNonPositivePivot(tail_matrix_);
     int k = tail_;
-    while (k + 1 < nb_ && bad >= 0 && tail_start_[k - tail_ + 1] <= bad) ++k;
+    while (k + 1 < nb_ && bad >= 0 && tailAt(k) + tailDim(k) <= bad) ++k;
     return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                        "non-positive pivot block", start_[old_[k]]);
   }
@@ -302,16 +302,10 @@ class BlockCholesky final : public detail::OrderedSolver {
     if (tail_ < nb_) {  // the dense tail, both ways
       Eigen::VectorXd& t = tail_rhs_;
       t.resize(tail_matrix_.rows());
-      for (int k = tail_; k < nb_; ++k) {
-        const int d = tail_start_[k - tail_ + 1] - tail_start_[k - tail_];
-        t.segment(tail_start_[k - tail_], d) = y[k].head(d);
-      }
+      for (int k = tail_; k < nb_; ++k) t.segment(tailAt(k), tailDim(k)) = y[k].head(tailDim(k));
       tail_matrix_.triangularView<Eigen::Lower>().solveInPlace(t);
       tail_matrix_.triangularView<Eigen::Lower>().transpose().solveInPlace(t);
-      for (int k = tail_; k < nb_; ++k) {
-        const int d = tail_start_[k - tail_ + 1] - tail_start_[k - tail_];
-        y[k].head(d) = t.segment(tail_start_[k - tail_], d);
-      }
+      for (int k = tail_; k < nb_; ++k) y[k].head(tailDim(k)) = t.segment(tailAt(k), tailDim(k));
     }
     for (int i = tail_ - 1; i >= 0; --i) {  // L^T x = y
       for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
