@@ -83,6 +83,17 @@ class CholmodSolver final : public detail::OrderedSolver {
     // back): the caller postorders.
     common_.postorder = prepermuted_lower_ ? 0 : 1;
     common_.quick_return_if_not_posdef = 1;
+    // Supernodal amalgamation: merge a supernode into its parent when the merged one stays
+    // narrow or gains few explicit zeros. CHOLMOD's default tolerates 80 % zeros up to 16
+    // columns, 10 % up to 48, 5 % beyond; these tolerate 20 %, 5 % and 2 %. Every supernode
+    // also stores its diagonal block as a full rectangle, so fewer zeros save more than the
+    // relaxed entries. 1M-pose synthetic graph (3M unknowns, METIS): L's value array 350.7M
+    // -> 316.4M doubles, peak memory 4756 -> 4503 MiB, factorisation time within the
+    // machine's noise (16.8 s against 17.6-20 s); 100k poses: 28.1M -> 24.8M doubles,
+    // same time.
+    common_.zrelax[0] = 0.2;
+    common_.zrelax[1] = 0.05;
+    common_.zrelax[2] = 0.02;
     common_.print = 0;
     common_.error_handler = nullptr;
   }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -271,6 +272,73 @@ TEST(Core_IoG2o, FixLinesRoundTrip) {
   auto back = io::readG2o(out, "y.g2o", types);
   ASSERT_TRUE(back.ok());
   EXPECT_TRUE(back.graph.vertex(1)->fixed());
+}
+
+TEST(Core_IoG2o, LargeGraphsAreWrittenInOrderAndNameUnregisteredTypes) {
+  // Enough lines for several batches formatted on two threads.
+  constexpr int kPoses = 70000;
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  Graph g;
+  std::vector<types_slam2d::SE2> truth;
+  for (int i = 0; i < kPoses; ++i) {
+    truth.emplace_back(0.5 * i, std::sin(0.01 * i), 0.001 * i);
+    auto v = std::make_unique<types_slam2d::VertexSE2>();
+    v->setId(i);
+    v->setEstimate(truth.back());
+    g.addVertex(std::move(v));
+  }
+  for (int i = 0; i + 1 < kPoses; ++i) test::addExactSE2Edge(g, truth, i, i + 1);
+  for (int i = 0; i + 7 < kPoses; i += 5) test::addExactSE2Edge(g, truth, i + 7, i);
+  g.vertex(kPoses / 2)->setFixed(true);
+
+  std::stringstream out;
+  io::writeG2o(out, g, types);
+  const std::string text = out.str();
+  // Line k + 1 + kPoses (after the vertices and the FIX line) is edge k, in the graph's
+  // order, and vertex lines follow the ids.
+  std::istringstream lines(text);
+  std::string line;
+  for (int i = 0; i < kPoses; ++i) {
+    ASSERT_TRUE(std::getline(lines, line));
+    ASSERT_EQ(line.rfind("VERTEX_SE2 " + std::to_string(i) + " ", 0), 0u) << line;
+  }
+  ASSERT_TRUE(std::getline(lines, line));
+  EXPECT_EQ(line, "FIX " + std::to_string(kPoses / 2));
+  for (const auto& e : g.edges()) {
+    ASSERT_TRUE(std::getline(lines, line));
+    const std::string head =
+        "EDGE_SE2 " + std::to_string(e->vertexId(0)) + " " + std::to_string(e->vertexId(1)) + " ";
+    ASSERT_EQ(line.rfind(head, 0), 0u) << line;
+  }
+  EXPECT_FALSE(std::getline(lines, line));
+  // Reading it back and writing again gives the same text.
+  std::istringstream in(text);
+  auto back = io::readG2o(in, "big.g2o", types);
+  ASSERT_TRUE(back.ok());
+  std::stringstream again;
+  io::writeG2o(again, back.graph, types);
+  EXPECT_EQ(again.str(), text);
+
+  // An edge of a type the registry does not know, at a position that the second thread
+  // formats (items [98304, 131072) of the list: batches of 32768 per thread): the error
+  // reaches the caller and names the edge's vertex.
+  while (g.numEdges() < 100000) test::addExactSE2Edge(g, truth, 3, 10 + g.numEdges() % 1000);
+  auto prior = std::make_unique<types_slam2d::EdgePriorSE2>();
+  prior->setVertexIds({4321});
+  prior->setMeasurement(truth[4321]);
+  g.addEdge(std::move(prior));
+  TypeRegistry without_priors;
+  without_priors.registerVertex<types_slam2d::VertexSE2>("VERTEX_SE2");
+  without_priors.registerEdge<types_slam2d::EdgeSE2>("EDGE_SE2");
+  std::stringstream failed;
+  try {
+    io::writeG2o(failed, g, without_priors);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write an edge on vertex 4321"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Core_IoG2o, AtomicWriteLeavesNoPartialFile) {
