@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Block up-looking Cholesky LL^T on fixed-size B x B blocks (B = the largest vertex
-// dimension, 2 or 3): the compiler unrolls every block operation, where a scalar
+// dimension, 1, 2 or 3): the compiler unrolls every block operation, where a scalar
 // simplicial factorisation walks one entry at a time. Smaller vertices (landmarks of
 // dimension 2 among poses of dimension 3) are padded: the extra unknown gets a unit
 // diagonal and no coupling, so it solves to zero and leaves the others exact.
@@ -127,9 +127,10 @@ class BlockCholesky final : public detail::OrderedSolver {
       }
     });
     a_ptr_.pop_back();
-    for (int k = 0; k < nb_; ++k) {
-      std::sort(a_.begin() + a_ptr_[k], a_.begin() + a_ptr_[k + 1],
-                [](const AEntry& x, const AEntry& y) { return x.row < y.row; });
+    const auto by_row = [](const AEntry& x, const AEntry& y) { return x.row < y.row; };
+    for (int k = 0; k < nb_; ++k) {  // already sorted in the natural order
+      const auto first = a_.begin() + a_ptr_[k], last = a_.begin() + a_ptr_[k + 1];
+      if (!std::is_sorted(first, last, by_row)) std::sort(first, last, by_row);
     }
     // Elimination tree and the row patterns of L (row subtrees) in a topological order:
     // every path up the tree is stacked in front of those found before it (which it ends
@@ -418,7 +419,7 @@ class BlockCholesky final : public detail::OrderedSolver {
   Eigen::VectorXd tail_rhs_;
 };
 
-/// Picks the block size at analysis: the largest vertex dimension (2 or 3; 1 is padded to 2).
+/// Picks the block size at analysis: the largest vertex dimension (1, 2 or 3).
 class BlockCholeskyAny final : public detail::OrderedSolver {
  public:
   explicit BlockCholeskyAny(Ordering ordering) : ordering_(ordering) {}
@@ -430,7 +431,8 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
     ordering_ = label;
     impl_.reset();
     const int b = maxBlockSize(s);
-    if (b <= 2) impl_ = std::make_unique<BlockCholesky<2>>();
+    if (b <= 1) impl_ = std::make_unique<BlockCholesky<1>>();
+    if (b == 2) impl_ = std::make_unique<BlockCholesky<2>>();
     if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>();
     if (!impl_) {
       return LinearSolverResult::failure(

@@ -31,14 +31,15 @@
 
 namespace graphslam::solvers {
 
-std::unique_ptr<detail::OrderedSolver> makeEigenLdlt();
+std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
 
 namespace {
 
 /// Above this many predicted flops of the scalar factorisation, CHOLMOD's supernodal
 /// factorisation takes it (dense fronts: a few dense landmark columns seen from every
-/// pose make the factor's trailing part dense); below, Eigen's simplicial LDL^T, which has
-/// no per-supernode overhead and names the column of a failed pivot.
+/// pose make the factor's trailing part dense); below, block-llt's up-looking LL^T on
+/// 1 x 1 blocks, which has no per-supernode overhead, works on B's arrays as they are and
+/// names the column of a failed pivot.
 constexpr double kSupernodalFlops = 2e6;
 /// Off-diagonal entries of a block, and differences between its diagonal entries, must
 /// be below this fraction of its (0, 0) entry.
@@ -98,8 +99,8 @@ class IsotropicSolver final : public detail::OrderedSolver {
     }
     h_ = s;
     // The block order (every d-th scalar column of the block-expanded order). H_s is laid
-    // out in that order (B = P H_s P^T), postordered by its elimination tree, so that the
-    // inner solver factorises B in its natural order and never permutes.
+    // out in that order (B = P H_s P^T), for CHOLMOD postordered by its elimination tree,
+    // so that the inner solver factorises B in its natural order and never permutes.
     block_order_.clear();
     block_order_.reserve(static_cast<std::size_t>(nb_));
     for (std::size_t k = 0; k < order.size(); k += static_cast<std::size_t>(d_)) {
@@ -108,14 +109,6 @@ class IsotropicSolver final : public detail::OrderedSolver {
     buildPermuted(false);  // B's upper triangle in the given order: its cost and tree
     std::vector<int> parent, counts;
     const detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
-    const std::vector<int> post = detail::postorder(parent, counts);
-    bool postordered = true;
-    for (int k = 0; k < nb_ && postordered; ++k) postordered = post[k] == k;
-    if (!postordered) {  // the same fill, with each subtree's columns contiguous
-      std::vector<int> composed(static_cast<std::size_t>(nb_));
-      for (int k = 0; k < nb_; ++k) composed[k] = block_order_[post[k]];
-      block_order_ = std::move(composed);
-    }
     // A complex multiply-add is four real ones.
     const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
@@ -125,17 +118,23 @@ class IsotropicSolver final : public detail::OrderedSolver {
       inner_ = makeCholmodSolver(true, label, true);
     }
 #else
-    static_cast<void>(supernodal);  // Eigen's simplicial LDL^T for every size
+    static_cast<void>(supernodal);  // block-llt for every size
     if (conformal_) {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure,
                                          "conformal: needs CHOLMOD (SuiteSparse)");
     }
 #endif
     if (inner_) {
-      buildPermuted(true);  // CHOLMOD takes B's lower triangle
+      // CHOLMOD: the same fill, with each subtree's columns contiguous (its supernodes),
+      // and B's lower triangle.
+      const std::vector<int> post = detail::postorder(parent, counts);
+      std::vector<int> composed(static_cast<std::size_t>(nb_));
+      for (int k = 0; k < nb_; ++k) composed[k] = block_order_[post[k]];
+      block_order_ = std::move(composed);
+      buildPermuted(true);
     } else {
-      inner_ = makeEigenLdlt();
-      if (!postordered) buildPermuted(false);
+      // block-llt's up-looking factorisation needs no postorder: B's upper triangle as it is.
+      inner_ = makeBlockCholesky(Ordering::kNatural);
     }
     std::vector<int> identity(static_cast<std::size_t>(nb_));
     std::iota(identity.begin(), identity.end(), 0);

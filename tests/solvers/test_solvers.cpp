@@ -605,11 +605,8 @@ struct MixedSystem {
   }
 };
 
-TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
-  // Poses (3) and landmarks (2) mixed, as in landmark SLAM: block-llt pads the 2s to 3.
-  std::mt19937 rng(9);
-  const std::vector<int> dims = {3, 2, 3, 3, 2, 2, 3, 2, 3, 3, 2, 3, 1};
-  const int nb = static_cast<int>(dims.size());
+/// Block pairs (a, b), a < b, of a chain over nb vertices and 2 nb random pairs.
+std::set<std::pair<int, int>> chainAndRandomPairs(int nb, std::mt19937& rng) {
   std::set<std::pair<int, int>> blocks;
   std::uniform_int_distribution<int> pick(0, nb - 1);
   for (int b = 0; b + 1 < nb; ++b) blocks.insert({b, b + 1});
@@ -617,7 +614,15 @@ TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
     const int a = pick(rng), c = pick(rng);
     blocks.insert({std::min(a, c), std::max(a, c)});
   }
-  const MixedSystem sys(dims, blocks, rng);
+  return blocks;
+}
+
+TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
+  // Poses (3) and landmarks (2) mixed, as in landmark SLAM: block-llt pads the 2s to 3.
+  std::mt19937 rng(9);
+  const std::vector<int> dims = {3, 2, 3, 3, 2, 2, 3, 2, 3, 3, 2, 3, 1};
+  const int nb = static_cast<int>(dims.size());
+  const MixedSystem sys(dims, chainAndRandomPairs(nb, rng), rng);
   SolverRegistry registry;
   solvers::registerSolvers(registry);
   for (const char* spec : {"block-llt:amd", "block-llt:natural", "auto"}) {
@@ -627,6 +632,32 @@ TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
   const LinearSolverResult r = sys.negatedBlockFailure(registry, "block-llt:natural", 4);
   EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
   EXPECT_EQ(r.column, sys.starts[4]);
+}
+
+TEST(Solvers_BlockLlt, ScalarUnknownsTakeOneByOneBlocks) {
+  // Every vertex of dimension 1 (the scalar systems of the isotropic solver): 1 x 1 blocks,
+  // nothing padded.
+  std::mt19937 rng(17);
+  const int nb = 40;
+  const std::vector<int> dims(nb, 1);
+  const MixedSystem sys(dims, chainAndRandomPairs(nb, rng), rng);
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  for (const char* spec : {"block-llt:natural", "block-llt:amd", "block-llt:colamd"}) {
+    EXPECT_LT(sys.solveError(registry, spec), 1e-12) << spec;
+    auto solver = registry.create(spec);
+    ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+    // Without padding, L stores exactly the lower triangle's non-zeros: at least H's.
+    const std::vector<double> v = sys.values(sys.m);
+    ASSERT_TRUE(solver->factorize(v.data()).ok());
+    EXPECT_GE(solver->factorNonZeros(), sys.blocks.size()) << spec;
+    EXPECT_LE(solver->factorNonZeros(), static_cast<std::size_t>(nb * (nb + 1) / 2)) << spec;
+  }
+  for (const int b : {0, 23, nb - 1}) {
+    const LinearSolverResult r = sys.negatedBlockFailure(registry, "block-llt:natural", b);
+    EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << b;
+    EXPECT_EQ(r.column, b) << b;
+  }
 }
 
 TEST(Solvers_BlockLlt, DenseTrailingPartIsFactorisedDenselyAndNamesItsFailures) {
@@ -684,6 +715,34 @@ TEST(Solvers_Isotropic, RejectsSystemsThatAreNotAMultipleOfTheIdentityPerBlock) 
   const LinearSolverResult r2 = solver->factorize(bad.data());
   ASSERT_FALSE(r2.ok());
   EXPECT_EQ(r2.column, 7);
+}
+
+TEST(Solvers_Isotropic, SmallSystemsAreSolvedAndNameTheFailingVertex) {
+  // Below the supernodal threshold the scalar matrix goes to block-llt's 1 x 1 blocks.
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(43);
+  BlockSystem sys(30, 2, rng);
+  const Eigen::MatrixXd iso = sys.isotropic(sys.randomSpd(rng));
+  const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
+  const Eigen::VectorXd expected = iso.ldlt().solve(rhs);
+  for (const char* spec : {"isotropic:natural", "isotropic:amd", "isotropic:colamd"}) {
+    auto solver = registry.create(spec);
+    ASSERT_TRUE(solver->analyze(sys.structure()).ok()) << spec;
+    const auto values = sys.values(iso);
+    ASSERT_TRUE(solver->factorize(values.data()).ok()) << spec;
+    Eigen::VectorXd x(sys.n());
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok()) << spec;
+    EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10) << spec;
+    for (const int b : {0, 11, 29}) {  // its diagonal block negated: still isotropic
+      Eigen::MatrixXd bad = iso;
+      bad.block(2 * b, 2 * b, 2, 2) *= -1.0;
+      const auto bad_values = sys.values(bad);
+      const LinearSolverResult r = solver->factorize(bad_values.data());
+      EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << spec << " " << b;
+      EXPECT_EQ(r.column, 2 * b) << spec << " " << b;
+    }
+  }
 }
 
 TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
