@@ -107,7 +107,9 @@ class BlockCholesky final : public detail::OrderedSolver {
         for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
           const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
           visit(r, c, p);
-          p += start_[r + 1] - start_[r];
+          // Every block B rows when all are (the next position then does not wait for
+          // this block's loads).
+          p += uniform_ ? B : start_[r + 1] - start_[r];
         }
       }
     };
