@@ -83,17 +83,6 @@ class CholmodSolver final : public detail::OrderedSolver {
     // back): the caller postorders.
     common_.postorder = prepermuted_lower_ ? 0 : 1;
     common_.quick_return_if_not_posdef = 1;
-    // Supernodal amalgamation: merge a supernode into its parent when the merged one stays
-    // narrow or gains few explicit zeros. CHOLMOD's default tolerates 80 % zeros up to 16
-    // columns, 10 % up to 48, 5 % beyond; these tolerate 20 %, 5 % and 2 %. Every supernode
-    // also stores its diagonal block as a full rectangle, so fewer zeros save more than the
-    // relaxed entries. 1M-pose synthetic graph (3M unknowns, METIS): L's value array 350.7M
-    // -> 316.4M doubles, peak memory 4756 -> 4503 MiB, factorisation time within the
-    // machine's noise (16.8 s against 17.6-20 s); 100k poses: 28.1M -> 24.8M doubles,
-    // same time.
-    common_.zrelax[0] = 0.2;
-    common_.zrelax[1] = 0.05;
-    common_.zrelax[2] = 0.02;
     common_.print = 0;
     common_.error_handler = nullptr;
   }
@@ -134,6 +123,7 @@ class CholmodSolver final : public detail::OrderedSolver {
         }
       }
     }
+    setRelaxation(s);
     const detail::SerialOpenMp serial;
     factor_ =
         cholmod_analyze_p(&a_, prepermuted_lower_ ? nullptr : perm_.data(), nullptr, 0, &common_);
@@ -231,6 +221,27 @@ class CholmodSolver final : public detail::OrderedSolver {
   }
 
  private:
+  /// Supernodal amalgamation: a supernode is merged into its parent when the merged one
+  /// stays narrow or gains few explicit zeros. CHOLMOD's default tolerates 80 % zeros up
+  /// to 16 columns, 10 % up to 48, 5 % beyond.
+  ///  - Systems of blocks (vertices of dimension > 1, supernodes at least one block wide)
+  ///    tolerate 20 %, 5 % and 2 %: every supernode also stores its diagonal block as a
+  ///    full rectangle, so fewer zeros save more than the relaxed entries. 1M-pose
+  ///    synthetic graph (3M unknowns, METIS): L's value array 350.7M -> 316.4M doubles,
+  ///    peak memory 4756 -> 4503 MiB, factorisation time within the machine's noise
+  ///    (16.8 s against 17.6-20 s); 100k poses: 28.1M -> 24.8M doubles, same time.
+  ///  - Scalar systems (the isotropic and complex paths of the SE(2) initial guess) keep
+  ///    the default: their fundamental supernodes are narrow and the BLAS calls on them
+  ///    slow. At 1M poses (1M unknowns, METIS) the tight setting made the complex
+  ///    factorisation 4.4-4.5 s instead of 3.0-3.6 s and the real one 3.4-3.7 s instead
+  ///    of 2.4-2.7 s.
+  void setRelaxation(const SparseStructure& s) {
+    const bool scalar = s.num_blocks == s.n;
+    common_.zrelax[0] = scalar ? 0.8 : 0.2;
+    common_.zrelax[1] = scalar ? 0.1 : 0.05;
+    common_.zrelax[2] = scalar ? 0.05 : 0.02;
+  }
+
   void freeFactor() {
     if (factor_) cholmod_free_factor(&factor_, &common_);
   }
