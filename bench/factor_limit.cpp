@@ -53,7 +53,7 @@ BareFactorisation timeCholmod(const SparseStructure& s, const std::vector<double
   c.method[0].ordering = CHOLMOD_GIVEN;
   c.postorder = 1;
   c.print = 0;
-  c.zrelax[0] = 0.2;  // the library's supernodal amalgamation (cholmod_solver.cpp)
+  c.zrelax[0] = 0.2;  // the library's amalgamation of block systems (cholmod_solver.cpp)
   c.zrelax[1] = 0.05;
   c.zrelax[2] = 0.02;
   cholmod_sparse a{};

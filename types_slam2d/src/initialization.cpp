@@ -285,15 +285,19 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   auto slot = [&](VertexId id) -> int& {
     return dense ? table[static_cast<std::size_t>(id - min_id)] : hashed[id];
   };
-  // Poses reached by relative-pose edges, in id order (the optimizer's order of blocks:
-  // large graphs then share one fill-reducing ordering with it).
+  // The slot's value, -1 when the id has none (without adding it to the hash map).
+  auto lookup = [&](VertexId id) {
+    if (dense) return table[static_cast<std::size_t>(id - min_id)];
+    const auto it = hashed.find(id);
+    return it == hashed.end() ? -1 : it->second;
+  };
   if (!dense) hashed.reserve(2 * relative.size());
   for (const EdgeSE2* se2 : relative) {
     for (std::size_t k = 0; k < 2; ++k) slot(se2->vertex(k)->id()) = 0;  // marked
   }
   std::vector<VertexSE2*> pose_vertices;
   for (const auto& [id, v] : vertices) {
-    if (dense ? table[static_cast<std::size_t>(id - min_id)] < 0 : hashed.count(id) == 0) continue;
+    if (lookup(id) < 0) continue;
     slot(id) = static_cast<int>(pose_vertices.size());
     pose_vertices.push_back(static_cast<VertexSE2*>(v.get()));
   }
@@ -303,11 +307,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     return report;
   }
   // Index of a pose vertex (-1: not a pose reached by an EDGE_SE2).
-  auto pose_index = [&](const Vertex* v) {
-    if (dense) return table[static_cast<std::size_t>(v->id() - min_id)];
-    const auto it = hashed.find(v->id());
-    return it == hashed.end() ? -1 : it->second;
-  };
+  auto pose_index = [&](const Vertex* v) { return lookup(v->id()); };
   std::vector<std::pair<int, int>> ends(relative.size());  // (first pose, second pose)
   for (std::size_t k = 0; k < relative.size(); ++k) {
     ends[k] = {pose_index(relative[k]->vertex(0)), pose_index(relative[k]->vertex(1))};
