@@ -88,7 +88,9 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
     in.notes.insert(in.notes.end(), p.notes.begin(), p.notes.end());
     return in;
   }
-  auto loaded = io::loadG2o(path, types);
+  io::LoadOptions load_options;
+  load_options.threads = options.threads;
+  auto loaded = io::loadG2o(path, types, load_options);
   if (!loaded.ok()) {
     std::string all;
     for (const auto& d : loaded.diagnostics) all += (all.empty() ? "" : "\n") + d.str();

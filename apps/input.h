@@ -27,6 +27,8 @@ namespace graphslam::apps {
 struct InputOptions {
   /// Observation model of a .npz homework file (kAuto: decided from the file).
   types_slam2d::PointObservationModel npz_model = types_slam2d::PointObservationModel::kAuto;
+  /// Threads parsing a .g2o file (io::LoadOptions::threads).
+  int threads = 1;
 };
 
 /// A graph read from a file, with what came with it.

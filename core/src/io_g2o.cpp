@@ -7,10 +7,16 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
 #include <fstream>
 #include <future>
+#include <memory>
+#include <mutex>
 #include <sstream>
 #include <string_view>
+#include <thread>
 #include <unordered_map>
 
 #include "graphslam/core/error.h"
@@ -76,59 +82,66 @@ VertexId parseId(std::string_view token, std::size_t index, std::string_view tag
   return static_cast<VertexId>(value);
 }
 
-class Reader {
- public:
-  Reader(const std::string& name, const TypeRegistry& types, const LoadOptions& options)
-      : name_(name), types_(types), options_(options) {}
+/// One parsed line: what reading it needs no graph for (tokens, numbers, the new vertex or
+/// edge object and its own checks), so that lines can be parsed on several threads.
+struct ParsedLine {
+  int line = 0;                    ///< 1-based, within its chunk
+  std::unique_ptr<Vertex> vertex;  ///< a vertex line
+  std::unique_ptr<Edge> edge;      ///< an edge line
+  std::vector<VertexId> fix;       ///< a FIX line
+  std::string tag;                 ///< a vertex or edge line's tag (its messages name it)
+  std::string error;               ///< a bad line: why
+  bool bad = false;
+};
 
-  LoadResult run(std::istream& in) {
-    std::string line;
+/// A run of whole lines of the input and, once parsed, its lines.
+struct Chunk {
+  std::string text;
+  std::vector<ParsedLine> lines;
+  int line_count = 0;
+  std::exception_ptr failure;  ///< an exception other than a bad line, rethrown in order
+  bool parsed = false;
+};
+
+/// Parses chunks; one per thread (its scratch storage is reused from line to line).
+class LineParser {
+ public:
+  explicit LineParser(const TypeRegistry& types) : types_(types) {}
+
+  void parse(Chunk& chunk) {
+    chunk.lines.clear();
+    const std::string_view text(chunk.text);
     int line_no = 0;
-    while (std::getline(in, line)) {
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+      std::size_t end = text.find('\n', pos);
+      if (end == std::string_view::npos) end = text.size();
+      std::string_view view = text.substr(pos, end - pos);
+      pos = end + 1;
       ++line_no;
-      std::string_view view(line);
       if (auto hash = view.find('#'); hash != std::string_view::npos) view = view.substr(0, hash);
       tokenize(view, tokens_);
       if (tokens_.empty()) continue;
+      ParsedLine& out = chunk.lines.emplace_back();
+      out.line = line_no;
       try {
-        handleLine(tokens_, line_no);
+        parseLine(tokens_, out);
       } catch (const LineError& err) {
-        if (!report(line_no, err.message)) return std::move(result_);
+        out = ParsedLine{};
+        out.line = line_no;
+        out.bad = true;
+        out.error = err.message;
       }
     }
-    if (in.bad()) report(line_no, "read error");
-    for (const auto& [line_of_fix, id] : fixes_) {
-      Vertex* v = result_.graph.vertex(id);
-      if (!v) {
-        if (!report(line_of_fix,
-                    "FIX: vertex " + std::to_string(id) + " is not defined in the file"))
-          return std::move(result_);
-        continue;
-      }
-      v->setFixed(true);
-    }
-    return std::move(result_);
+    chunk.line_count = line_no;
   }
 
  private:
-  /// Returns false when loading must stop.
-  bool report(int line_no, std::string message) {
-    result_.diagnostics.push_back({name_, line_no, std::move(message)});
-    if (options_.strict) {
-      result_.failed = true;
-      return false;
-    }
-    ++result_.skipped_lines;
-    return true;
-  }
-
-  void handleLine(const std::vector<std::string_view>& tokens, int line_no) {
+  void parseLine(const std::vector<std::string_view>& tokens, ParsedLine& out) {
     const std::string tag(tokens[0]);
     if (tag == "FIX") {
       if (tokens.size() < 2) throw LineError{"FIX expects at least one vertex id"};
-      for (std::size_t i = 1; i < tokens.size(); ++i) {
-        fixes_.emplace_back(line_no, parseId(tokens[i], i, tag));
-      }
+      for (std::size_t i = 1; i < tokens.size(); ++i) out.fix.push_back(parseId(tokens[i], i, tag));
       return;
     }
     const TypeRegistry::Entry* entry = types_.find(tag);
@@ -146,15 +159,12 @@ class Reader {
       values_.resize(expected - 1);
       for (std::size_t i = 0; i + 1 < expected; ++i)
         values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
-      if (auto it = vertex_lines_.find(id); it != vertex_lines_.end()) {
-        throw LineError{tag + ": duplicate vertex id " + std::to_string(id) +
-                        " (first defined on line " + std::to_string(it->second) + ")"};
-      }
       v->setId(id);
       v->setEstimateData(values_.data());
-      setParameters(tag, [&] { v->setParameterData(values_.data() + est); });
-      result_.graph.addVertex(std::move(v));
-      vertex_lines_.emplace(id, line_no);
+      // Reported after the duplicate-id check (at commit), as a serial reader would.
+      out.error = refusal(tag, [&] { v->setParameterData(values_.data() + est); });
+      out.vertex = std::move(v);
+      out.tag = tag;
       return;
     }
     auto e = entry->make_edge();
@@ -182,12 +192,6 @@ class Reader {
     for (std::size_t i = 0; i < meas + info; ++i) {
       values_[i] = parseDouble(tokens[1 + num_ids + i], 1 + num_ids + i, tag);
     }
-    for (VertexId id : ids) {
-      if (!result_.graph.hasVertex(id)) {
-        throw LineError{tag + ": refers to vertex " + std::to_string(id) +
-                        ", which is not defined before this line"};
-      }
-    }
     Eigen::MatrixXd& omega = omega_;  // storage reused from line to line
     omega.resize(d, d);
     std::size_t k = meas;
@@ -198,31 +202,31 @@ class Reader {
         ++k;
       }
     }
-    if (llt_.compute(omega).info() != Eigen::Success) {
-      throw LineError{tag + ": information matrix is not positive definite"};
-    }
+    // Checked after the edge's vertices are known to be defined (at commit), in this
+    // order: the information matrix, then the parameters.
     e->setVertexIds(std::move(ids));
-    e->setMeasurementData(values_.data());
-    setParameters(tag,
-                  [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
-    e->setInformationData(omega.data());
-    try {
-      result_.graph.addEdge(std::move(e));
-    } catch (const Error& err) {
-      std::string msg = err.what();
-      if (msg.rfind("addEdge: ", 0) == 0) msg = msg.substr(9);
-      throw LineError{tag + ": " + msg};
+    if (llt_.compute(omega).info() != Eigen::Success) {
+      out.error = tag + ": information matrix is not positive definite";
+    } else {
+      e->setMeasurementData(values_.data());
+      out.error = refusal(
+          tag, [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
+      e->setInformationData(omega.data());
     }
+    out.edge = std::move(e);
+    out.tag = tag;
   }
 
-  /// Runs `set` (a setParameterData call), turning a refused value into a line error.
+  /// Runs `set` (a setParameterData call); the message when the type refuses the value,
+  /// else empty.
   template <typename F>
-  static void setParameters(const std::string& tag, F&& set) {
+  static std::string refusal(const std::string& tag, F&& set) {
     try {
       set();
     } catch (const Error& err) {
-      throw LineError{tag + ": " + err.what()};
+      return tag + ": " + err.what();
     }
+    return {};
   }
 
   static std::string countMessage(const std::string& tag, std::size_t expected, std::size_t found) {
@@ -230,15 +234,246 @@ class Reader {
            std::to_string(found);
   }
 
-  std::string name_;
   const TypeRegistry& types_;
-  LoadOptions options_;
-  LoadResult result_;
   std::vector<double> values_;
   std::vector<std::string_view> tokens_;
   Eigen::MatrixXd omega_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  std::unordered_map<VertexId, int> vertex_lines_;
+};
+
+/// Reads the input in chunks of whole lines. Chunks are parsed on up to `threads` threads
+/// (the calling one included) and added to the graph in file order by the calling thread,
+/// so the graph and the diagnostics do not depend on the thread count.
+class Reader {
+ public:
+  Reader(const std::string& name, const TypeRegistry& types, const LoadOptions& options)
+      : name_(name), types_(types), options_(options) {}
+
+  LoadResult run(std::istream& in) {
+    const int threads = std::max(1, options_.threads);
+    LineParser own(types_);
+    std::deque<std::unique_ptr<Chunk>> window;  // read, not yet added; in file order
+    std::string carry;                          // a line begun in the last chunk read
+    bool eof = false;
+    Workers workers(types_);
+    const std::size_t max_window = 2 * static_cast<std::size_t>(threads);
+    int line_base = 0;
+    while (true) {
+      while (!eof && window.size() < max_window) {
+        auto chunk = readChunk(in, carry, eof);
+        if (!chunk) break;
+        if (threads > 1 && (window.size() > 0 || !eof)) workers.start(threads - 1);
+        workers.push(*chunk);
+        window.push_back(std::move(chunk));
+      }
+      if (window.empty()) break;
+      Chunk& front = *window.front();
+      workers.waitFor(front, own);
+      if (front.failure) std::rethrow_exception(front.failure);
+      for (ParsedLine& p : front.lines) {
+        if (!commit(p, line_base + p.line)) return std::move(result_);
+      }
+      line_base += front.line_count;
+      window.pop_front();
+    }
+    if (in.bad()) report(line_base, "read error");
+    for (const auto& [line_of_fix, id] : fixes_) {
+      Vertex* v = result_.graph.vertex(id);
+      if (!v) {
+        if (!report(line_of_fix,
+                    "FIX: vertex " + std::to_string(id) + " is not defined in the file"))
+          return std::move(result_);
+        continue;
+      }
+      v->setFixed(true);
+    }
+    return std::move(result_);
+  }
+
+ private:
+  /// Bytes read per chunk (it then extends to the end of its last line).
+  static constexpr std::size_t kChunkBytes = std::size_t{1} << 22;
+
+  /// The next chunk of whole lines, or null at the end of the input.
+  static std::unique_ptr<Chunk> readChunk(std::istream& in, std::string& carry, bool& eof) {
+    auto chunk = std::make_unique<Chunk>();
+    std::string& text = chunk->text;
+    text.swap(carry);
+    carry.clear();
+    while (!eof) {
+      const std::size_t old = text.size();
+      text.resize(old + kChunkBytes);
+      in.read(text.data() + old, static_cast<std::streamsize>(kChunkBytes));
+      text.resize(old + static_cast<std::size_t>(in.gcount()));
+      if (!in) eof = true;
+      // Only the part just read can hold a line end (the carry holds none).
+      const std::size_t last = std::string_view(text).substr(old).rfind('\n');
+      if (last != std::string_view::npos) {
+        // Whole lines only: the rest begins the next chunk.
+        carry.assign(text, old + last + 1, std::string::npos);
+        text.resize(old + last + 1);
+        break;
+      }
+    }
+    if (text.empty()) return nullptr;
+    return chunk;
+  }
+
+  /// Worker threads parsing queued chunks, oldest first; the calling thread parses the
+  /// oldest itself when no worker has taken it by the time it is to be added.
+  class Workers {
+   public:
+    explicit Workers(const TypeRegistry& types) : types_(types) {}
+    Workers(const Workers&) = delete;
+    Workers& operator=(const Workers&) = delete;
+    ~Workers() {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_ = true;
+        todo_.clear();
+      }
+      ready_.notify_all();
+      for (auto& t : threads_) t.join();
+    }
+
+    void start(int count) {
+      while (static_cast<int>(threads_.size()) < count) {
+        threads_.emplace_back([this] {
+          LineParser parser(types_);
+          while (Chunk* c = take()) parseOne(parser, *c);
+        });
+      }
+    }
+
+    void push(Chunk& chunk) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        todo_.push_back(&chunk);
+      }
+      ready_.notify_one();
+    }
+
+    /// Returns when `chunk`, the oldest chunk not yet added, is parsed: parses it when no
+    /// worker has taken it, else waits (the chunks after it are the workers').
+    void waitFor(Chunk& chunk, LineParser& own) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!todo_.empty() && todo_.front() == &chunk) {
+        todo_.pop_front();
+        lock.unlock();
+        parseOne(own, chunk);
+        return;
+      }
+      parsed_.wait(lock, [&] { return chunk.parsed; });
+    }
+
+   private:
+    /// The oldest queued chunk, once there is one; null when the reader is done.
+    Chunk* take() {
+      std::unique_lock<std::mutex> lock(mutex_);
+      ready_.wait(lock, [&] { return done_ || !todo_.empty(); });
+      if (todo_.empty()) return nullptr;
+      Chunk* c = todo_.front();
+      todo_.pop_front();
+      return c;
+    }
+
+    void parseOne(LineParser& parser, Chunk& chunk) {
+      try {
+        parser.parse(chunk);
+      } catch (...) {
+        chunk.failure = std::current_exception();
+      }
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        chunk.parsed = true;
+      }
+      parsed_.notify_all();
+    }
+
+    const TypeRegistry& types_;
+    std::mutex mutex_;
+    std::condition_variable ready_, parsed_;
+    std::deque<Chunk*> todo_;
+    bool done_ = false;
+    std::vector<std::thread> threads_;
+  };
+
+  /// Returns false when loading must stop.
+  bool report(int line_no, std::string message) {
+    result_.diagnostics.push_back({name_, line_no, std::move(message)});
+    if (options_.strict) {
+      result_.failed = true;
+      return false;
+    }
+    ++result_.skipped_lines;
+    return true;
+  }
+
+  /// Adds a parsed line to the graph (the checks that need the lines before it); returns
+  /// false when loading must stop.
+  bool commit(ParsedLine& p, int line_no) {
+    if (p.bad) return report(line_no, std::move(p.error));
+    if (!p.fix.empty()) {
+      for (VertexId id : p.fix) fixes_.emplace_back(line_no, id);
+      return true;
+    }
+    if (p.vertex) {
+      const VertexId id = p.vertex->id();
+      if (result_.graph.hasVertex(id)) {
+        return report(line_no, p.tag + ": duplicate vertex id " + std::to_string(id) +
+                                   " (first defined on line " + std::to_string(vertexLine(id)) +
+                                   ")");
+      }
+      if (!p.error.empty()) return report(line_no, std::move(p.error));
+      result_.graph.addVertex(std::move(p.vertex));
+      vertex_lines_.emplace_back(id, line_no);
+      return true;
+    }
+    // The ids outlive an edge that addEdge refuses (and destroys); storage reused.
+    ids_.assign(p.edge->vertexIds().begin(), p.edge->vertexIds().end());
+    if (p.error.empty()) {
+      // The usual case: addEdge finds the vertices (no second look-up here).
+      try {
+        result_.graph.addEdge(std::move(p.edge));
+        return true;
+      } catch (const Error& err) {
+        return report(line_no, edgeMessage(p.tag, err.what()));
+      }
+    }
+    return report(line_no, edgeMessage(p.tag, p.error));
+  }
+
+  /// The message for an edge on the vertices ids_ that was not added: a vertex not defined
+  /// before its line first, else `message` (addEdge's without its prefix, or the parser's).
+  std::string edgeMessage(const std::string& tag, std::string message) const {
+    for (VertexId id : ids_) {
+      if (!result_.graph.hasVertex(id)) {
+        return tag + ": refers to vertex " + std::to_string(id) +
+               ", which is not defined before this line";
+      }
+    }
+    if (message.rfind("addEdge: ", 0) == 0) return tag + ": " + message.substr(9);
+    return message;
+  }
+
+  /// Line of the vertex `id` (read earlier). Only a duplicate's message needs it: the
+  /// index is built then, and kept up to date from there on.
+  int vertexLine(VertexId id) {
+    for (; indexed_ < vertex_lines_.size(); ++indexed_) {
+      line_index_.emplace(vertex_lines_[indexed_].first, vertex_lines_[indexed_].second);
+    }
+    const auto it = line_index_.find(id);
+    return it == line_index_.end() ? 0 : it->second;
+  }
+
+  std::string name_;
+  const TypeRegistry& types_;
+  LoadOptions options_;
+  LoadResult result_;
+  std::vector<std::pair<VertexId, int>> vertex_lines_;  ///< in file order
+  std::unordered_map<VertexId, int> line_index_;        ///< vertex_lines_[0, indexed_)
+  std::size_t indexed_ = 0;
+  std::vector<VertexId> ids_;  ///< the vertices of the edge being added
   std::vector<std::pair<int, VertexId>> fixes_;
 };
 

@@ -341,6 +341,84 @@ TEST(Core_IoG2o, LargeGraphsAreWrittenInOrderAndNameUnregisteredTypes) {
   }
 }
 
+TEST(Core_IoG2o, ThreadedReadingGivesTheSameGraphAndDiagnostics) {
+  // A text of several 4 MiB chunks (lines cross their boundaries), with bad lines in
+  // different chunks: every thread count gives the same graph, the same diagnostics and
+  // the same line numbers, and strict reading stops at the first bad line.
+  constexpr int kPoses = 60000;
+  std::string text;
+  std::vector<int> bad_lines;
+  int line = 0;
+  auto add = [&](const std::string& l) {
+    text += l;
+    text += '\n';
+    ++line;
+  };
+  for (int i = 0; i < kPoses; ++i) {
+    add("VERTEX_SE2 " + std::to_string(i) + " " + std::to_string(0.5 * i) +
+        " 0.25000000000000011 0.0010000000000000009  # pose " + std::to_string(i));
+    if (i == 20000) {
+      add("VERTEX_SE2 17 1 2 3");  // duplicate id: names the first line of vertex 17
+      bad_lines.push_back(line);
+    }
+  }
+  add("FIX 3");
+  for (int i = 0; i + 1 < kPoses; ++i) {
+    add("EDGE_SE2 " + std::to_string(i) + " " + std::to_string(i + 1) +
+        " 0.5 0.0 0.0 500.00000000000011 0.0 0.0 500.00000000000011 0.0 1000.0000000000002");
+    if (i == 30000) {
+      add("EDGE_SE2 1 99999999 1 0 0 1 0 0 1 0 1");
+      bad_lines.push_back(line);
+    }
+    if (i == 45000) {
+      add("EDGE_SE2 1 2 1 0 0 1 0 0 -1 0 1");
+      bad_lines.push_back(line);
+    }
+  }
+  ASSERT_GT(text.size(), std::size_t{10} << 20);  // three chunks or more
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+
+  std::string first_written;
+  for (int threads : {1, 2, 3}) {
+    io::LoadOptions lenient;
+    lenient.strict = false;
+    lenient.threads = threads;
+    std::istringstream in(text);
+    auto r = io::readG2o(in, "t.g2o", types, lenient);
+    ASSERT_TRUE(r.ok()) << threads;
+    EXPECT_EQ(r.graph.numVertices(), static_cast<std::size_t>(kPoses));
+    EXPECT_EQ(r.graph.numEdges(), static_cast<std::size_t>(kPoses - 1));
+    EXPECT_TRUE(r.graph.vertex(3)->fixed());
+    ASSERT_EQ(r.diagnostics.size(), bad_lines.size()) << threads;
+    EXPECT_EQ(r.skipped_lines, bad_lines.size());
+    for (std::size_t k = 0; k < bad_lines.size(); ++k) {
+      EXPECT_EQ(r.diagnostics[k].line, bad_lines[k]) << threads << ": " << r.diagnostics[k].str();
+    }
+    EXPECT_NE(r.diagnostics[0].message.find("duplicate vertex id 17 (first defined on line 18)"),
+              std::string::npos)
+        << r.diagnostics[0].message;
+    EXPECT_NE(r.diagnostics[1].message.find("refers to vertex 99999999"), std::string::npos);
+    EXPECT_NE(r.diagnostics[2].message.find("not positive definite"), std::string::npos);
+    std::stringstream out;
+    io::writeG2o(out, r.graph, types);
+    if (threads == 1) {
+      first_written = out.str();
+    } else {
+      EXPECT_EQ(out.str(), first_written) << threads;
+    }
+
+    io::LoadOptions strict;
+    strict.threads = threads;
+    std::istringstream again(text);
+    auto s = io::readG2o(again, "t.g2o", types, strict);
+    ASSERT_FALSE(s.ok());
+    ASSERT_EQ(s.diagnostics.size(), 1u);
+    EXPECT_EQ(s.diagnostics[0].line, bad_lines[0]);
+    EXPECT_EQ(s.graph.numVertices(), 20001u);  // the lines before it
+  }
+}
+
 TEST(Core_IoG2o, AtomicWriteLeavesNoPartialFile) {
   const std::string path = ::testing::TempDir() + "atomic_out.g2o";
   std::remove(path.c_str());

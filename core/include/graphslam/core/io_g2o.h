@@ -23,6 +23,11 @@ struct LoadOptions {
   /// Strict (default): the first bad line makes the load fail. Lenient: bad lines are
   /// reported, skipped and counted.
   bool strict = true;
+  /// Threads parsing the text (the calling one included). Lines are added to the graph in
+  /// file order whatever the count, so the result is the same; with more than one, the
+  /// registered types' factories and set...Data functions run on several threads at once
+  /// (on different objects).
+  int threads = 1;
 };
 
 struct LoadResult {
