@@ -85,12 +85,12 @@ VertexId parseId(std::string_view token, std::size_t index, std::string_view tag
 /// One parsed line: what reading it needs no graph for (tokens, numbers, the new vertex or
 /// edge object and its own checks), so that lines can be parsed on several threads.
 struct ParsedLine {
-  int line = 0;                    ///< 1-based, within its chunk
-  std::unique_ptr<Vertex> vertex;  ///< a vertex line
-  std::unique_ptr<Edge> edge;      ///< an edge line
-  std::vector<VertexId> fix;       ///< a FIX line
-  std::string tag;                 ///< a vertex or edge line's tag (its messages name it)
-  std::string error;               ///< a bad line: why
+  int line = 0;                      ///< 1-based, within its chunk
+  std::unique_ptr<Vertex> vertex;    ///< a vertex line
+  std::unique_ptr<Edge> edge;        ///< an edge line
+  std::vector<VertexId> fix;         ///< a FIX line
+  const std::string* tag = nullptr;  ///< a vertex or edge line's tag (the registry's string)
+  std::string error;                 ///< a bad line: why
   bool bad = false;
 };
 
@@ -164,7 +164,7 @@ class LineParser {
       // Reported after the duplicate-id check (at commit), as a serial reader would.
       out.error = refusal(tag, [&] { v->setParameterData(values_.data() + est); });
       out.vertex = std::move(v);
-      out.tag = tag;
+      out.tag = &entry->tag;
       return;
     }
     auto e = entry->make_edge();
@@ -214,7 +214,7 @@ class LineParser {
       e->setInformationData(omega.data());
     }
     out.edge = std::move(e);
-    out.tag = tag;
+    out.tag = &entry->tag;
   }
 
   /// Runs `set` (a setParameterData call); the message when the type refuses the value,
@@ -420,7 +420,7 @@ class Reader {
     if (p.vertex) {
       const VertexId id = p.vertex->id();
       if (result_.graph.hasVertex(id)) {
-        return report(line_no, p.tag + ": duplicate vertex id " + std::to_string(id) +
+        return report(line_no, *p.tag + ": duplicate vertex id " + std::to_string(id) +
                                    " (first defined on line " + std::to_string(vertexLine(id)) +
                                    ")");
       }
@@ -437,10 +437,10 @@ class Reader {
         result_.graph.addEdge(std::move(p.edge));
         return true;
       } catch (const Error& err) {
-        return report(line_no, edgeMessage(p.tag, err.what()));
+        return report(line_no, edgeMessage(*p.tag, err.what()));
       }
     }
-    return report(line_no, edgeMessage(p.tag, p.error));
+    return report(line_no, edgeMessage(*p.tag, p.error));
   }
 
   /// The message for an edge on the vertices ids_ that was not added: a vertex not defined
