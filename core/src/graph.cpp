@@ -2,37 +2,67 @@
 #include "graphslam/core/graph.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "graphslam/core/error.h"
 
 namespace graphslam {
 
+void Edge::resizeVertices(std::size_t n) {
+  if (num_vertices_ > kInlineVertices) {
+    delete[] heap_ids_;
+    delete[] heap_vertices_;
+  }
+  num_vertices_ = 0;
+  if (n > kInlineVertices) {
+    heap_ids_ = new VertexId[n];
+    heap_vertices_ = new Vertex*[n];
+  }
+  num_vertices_ = static_cast<std::uint32_t>(n);
+  std::fill(ids(), ids() + n, -1);
+  std::fill(vertices(), vertices() + n, nullptr);
+}
+
 void Edge::setVertexIds(std::vector<VertexId> ids) {
   if (arity_ > 0 && static_cast<int>(ids.size()) != arity_) {
     throw Error("edge takes " + std::to_string(arity_) + " vertices, " +
                 std::to_string(ids.size()) + " given");
   }
-  if (!vertices_.empty()) throw Error("vertex ids of an edge cannot change once it is in a graph");
-  vertex_ids_ = std::move(ids);
+  if (in_graph_) throw Error("vertex ids of an edge cannot change once it is in a graph");
+  if (ids.size() != num_vertices_) resizeVertices(ids.size());
+  std::copy(ids.begin(), ids.end(), this->ids());
 }
 
 void Edge::setVertexId(std::size_t slot, VertexId id) {
-  if (slot >= vertex_ids_.size()) {
+  if (slot >= num_vertices_) {
     throw Error("edge slot " + std::to_string(slot) + " out of range (edge has " +
-                std::to_string(vertex_ids_.size()) + " slots)");
+                std::to_string(num_vertices_) + " slots)");
   }
-  if (!vertices_.empty()) throw Error("vertex ids of an edge cannot change once it is in a graph");
-  vertex_ids_[slot] = id;
+  if (in_graph_) throw Error("vertex ids of an edge cannot change once it is in a graph");
+  ids()[slot] = id;
+}
+
+VertexId Edge::vertexId(std::size_t slot) const {
+  if (slot >= num_vertices_) {
+    throw std::out_of_range("edge slot " + std::to_string(slot) + " out of range (edge has " +
+                            std::to_string(num_vertices_) + " slots)");
+  }
+  return ids()[slot];
 }
 
 bool Edge::allVerticesFixed() const {
-  return std::all_of(vertices_.begin(), vertices_.end(),
+  if (!in_graph_) return true;
+  return std::all_of(vertices(), vertices() + num_vertices_,
                      [](const Vertex* v) { return v->fixed(); });
 }
 
 void Edge::numericJacobianInPlace(std::size_t slot, double* jacobian) {
-  Vertex* v = vertices_.at(slot);
+  if (!in_graph_ || slot >= num_vertices_) {
+    throw std::out_of_range("numeric Jacobian: edge slot " + std::to_string(slot) +
+                            " has no vertex");
+  }
+  Vertex* v = vertices()[slot];
   const int d = dimension();
   std::vector<double> delta(static_cast<std::size_t>(v->dimension()), 0.0);
   std::vector<double> plus(static_cast<std::size_t>(d));
@@ -71,8 +101,8 @@ Edge& Graph::addEdge(std::unique_ptr<Edge> edge) {
   if (!edge) throw Error("addEdge: null edge");
   const auto& ids = edge->vertexIds();
   if (ids.empty()) throw Error("addEdge: edge has no vertices");
-  std::vector<Vertex*> resolved;
-  resolved.reserve(ids.size());
+  // Resolved straight into the edge: a refused edge is destroyed with the exception.
+  Vertex** resolved = edge->vertices();
   for (std::size_t slot = 0; slot < ids.size(); ++slot) {
     const VertexId id = ids[slot];
     auto it = vertices_.find(id);
@@ -88,11 +118,11 @@ Edge& Graph::addEdge(std::unique_ptr<Edge> edge) {
       throw Error("addEdge: vertex " + std::to_string(id) + " has the wrong type for slot " +
                   std::to_string(slot) + " (expected " + edge->expectedVertexType(slot) + ")");
     }
-    resolved.push_back(it->second.get());
+    resolved[slot] = it->second.get();
   }
-  edge->vertices_ = std::move(resolved);
+  edge->in_graph_ = true;
   Edge* raw = edge.get();
-  for (Vertex* v : raw->vertices_) v->edges_.push_back(raw);
+  for (std::size_t slot = 0; slot < ids.size(); ++slot) resolved[slot]->edges_.push_back(raw);
   edges_.push_back(std::move(edge));
   ++version_;
   return *raw;
@@ -122,7 +152,8 @@ std::size_t Graph::removeEdges(const std::function<bool(const Edge&)>& pred) {
       edges_.begin(), edges_.end(), [&pred](const std::unique_ptr<Edge>& e) { return !pred(*e); });
   for (auto it = keep_end; it != edges_.end(); ++it) {
     Edge* e = it->get();
-    for (Vertex* v : e->vertices_) {
+    for (std::size_t slot = 0; slot < e->numVertices(); ++slot) {
+      Vertex* v = e->vertices()[slot];
       auto& inc = v->edges_;
       inc.erase(std::remove(inc.begin(), inc.end(), e), inc.end());
     }

@@ -10,6 +10,24 @@
 
 namespace graphslam::detail {
 
+namespace {
+/// The lower-triangle pattern of the symmetric matrix whose upper one is `upper`: the
+/// transpose, rows sorted in every column.
+BlockPattern transposed(const BlockPattern& upper) {
+  const int nb = upper.numBlocks();
+  BlockPattern lower;
+  lower.ptr.assign(static_cast<std::size_t>(nb) + 1, 0);
+  for (int r : upper.rows) ++lower.ptr[static_cast<std::size_t>(r) + 1];
+  for (int c = 0; c < nb; ++c) lower.ptr[c + 1] += lower.ptr[c];
+  lower.rows.resize(upper.rows.size());
+  std::vector<int> next(lower.ptr.begin(), lower.ptr.end() - 1);
+  for (int c = 0; c < nb; ++c) {  // columns in increasing order: rows come sorted
+    for (int k = upper.ptr[c]; k < upper.ptr[c + 1]; ++k) lower.rows[next[upper.rows[k]]++] = c;
+  }
+  return lower;
+}
+}  // namespace
+
 bool HessianStructure::stale(const Graph& graph) const {
   if (graph.structureVersion() != version_) return true;
   std::size_t i = 0;
@@ -19,7 +37,7 @@ bool HessianStructure::stale(const Graph& graph) const {
   return false;
 }
 
-void HessianStructure::build(Graph& graph) {
+void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) {
   version_ = graph.structureVersion();
   // Every array gets its exact size up front: on large graphs (1M vertices) doubling
   // growth would leave up to half of each one unused.
@@ -27,15 +45,24 @@ void HessianStructure::build(Graph& graph) {
   fixed_snapshot_.reserve(graph.numVertices());
   active_vertices_.clear();
   active_vertices_.reserve(graph.numVertices());
-  block_starts_.assign(1, 0);
-  block_starts_.reserve(graph.numVertices() + 1);
-  int col = 0;
   for (const auto& [id, v] : graph.vertices()) {
     fixed_snapshot_.push_back(static_cast<char>(v->fixed()));
     v->setHessianIndex(-1);
     if (v->fixed() || v->edges().empty()) continue;
-    v->setHessianIndex(col);
     active_vertices_.push_back(v.get());
+  }
+  lower_ = block_order != nullptr;
+  if (lower_) {
+    std::vector<Vertex*> by_id;
+    by_id.swap(active_vertices_);
+    active_vertices_.reserve(by_id.size());
+    for (int b : *block_order) active_vertices_.push_back(by_id[static_cast<std::size_t>(b)]);
+  }
+  block_starts_.assign(1, 0);
+  block_starts_.reserve(active_vertices_.size() + 1);
+  int col = 0;
+  for (Vertex* v : active_vertices_) {
+    v->setHessianIndex(col);
     col += v->dimension();
     block_starts_.push_back(col);
   }
@@ -54,20 +81,39 @@ void HessianStructure::build(Graph& graph) {
   std::vector<std::pair<int, int>> pairs;
   pairs.reserve(graph.edges().size());
   std::vector<int> blocks;
+  // In a solver's order, the edges go by their first block in that order (a counting
+  // sort): assembling H then writes its columns in turn instead of all over the array.
+  std::vector<int> first_block;
+  if (lower_) first_block.reserve(graph.edges().size());
   for (const auto& e : graph.edges()) {
     blocks.clear();
     for (std::size_t s = 0; s < e->numVertices(); ++s) blocks.push_back(block_of(e->vertex(s)));
-    if (std::all_of(blocks.begin(), blocks.end(), [](int b) { return b < 0; })) continue;
+    int first = nb;
+    for (int b : blocks) first = b >= 0 ? std::min(first, b) : first;
+    if (first == nb) continue;
     active_edges_.push_back(e.get());
+    if (lower_) first_block.push_back(first);
     for (std::size_t a = 0; a < blocks.size(); ++a) {
       for (std::size_t b = a + 1; b < blocks.size(); ++b) {
         if (blocks[a] >= 0 && blocks[b] >= 0) pairs.emplace_back(blocks[a], blocks[b]);
       }
     }
   }
-  const BlockPattern pattern = BlockPattern::fromPairs(nb, pairs);
+  if (lower_) {
+    std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1, 0);
+    for (int b : first_block) ++start[static_cast<std::size_t>(b) + 1];
+    for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
+    std::vector<Edge*> sorted(active_edges_.size());
+    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+      sorted[start[static_cast<std::size_t>(first_block[k])]++] = active_edges_[k];
+    }
+    active_edges_.swap(sorted);
+  }
+  const BlockPattern pattern =
+      lower_ ? transposed(BlockPattern::fromPairs(nb, pairs)) : BlockPattern::fromPairs(nb, pairs);
 
-  // Scalar CSC: every column of block column j holds all rows of its row blocks, so the
+  // Scalar CSC: every column of block column j holds all rows of its row blocks (those
+  // <= j, or >= j for the lower triangle), so the
   // diagonal block is stored full and every column of a block has the same length.
   // within[k]: offset of the k-th row block of its column within the column.
   std::vector<int> within(pattern.rows.size());
@@ -102,44 +148,68 @@ void HessianStructure::build(Graph& graph) {
     }
   }
 
+  // Every edge's slots: their columns (b's offsets), recorded now (another structure on
+  // the same graph may set the vertices' hessianIndex later). The block positions follow
+  // at the first assembly (buildRefs): a structure rebuilt in a solver's order before
+  // any assembly never computes them twice.
+  std::size_t num_slots = 0;
+  for (const Edge* e : active_edges_) num_slots += e->numVertices();
+  b_offsets_.clear();
+  b_offsets_.reserve(num_slots);
+  edge_b_start_.clear();
+  edge_b_start_.reserve(active_edges_.size() + 1);
+  for (const Edge* e : active_edges_) {
+    edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
+    for (std::size_t a = 0; a < e->numVertices(); ++a)
+      b_offsets_.push_back(e->vertex(a)->hessianIndex());
+  }
+  edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
+  std::vector<HessianBlockRef>().swap(refs_);
+  std::vector<std::uint32_t>().swap(edge_ref_start_);
+}
+
+std::vector<int> HessianStructure::blockOfColumn() const {
+  std::vector<int> block(static_cast<std::size_t>(n_));
+  for (std::size_t b = 0; b + 1 < block_starts_.size(); ++b) {
+    std::fill(block.begin() + block_starts_[b], block.begin() + block_starts_[b + 1],
+              static_cast<int>(b));
+  }
+  return block;
+}
+
+void HessianStructure::buildRefs() {
+  const std::vector<int> block = blockOfColumn();
+  // Block (bi, bj) is stored as (row, column) in the stored triangle, transposed when that
+  // is (bj, bi); found by its first row in the column's sorted rows.
   auto block_ref = [&](int bi, int bj) {
     HessianBlockRef ref;
-    ref.transposed = bi > bj;
-    if (ref.transposed) std::swap(bi, bj);
-    ref.offset = col_ptr_[block_starts_[bj]] + within[pattern.find(bi, bj)];
-    ref.stride = col_len[bj];
+    const int row = lower_ ? std::max(bi, bj) : std::min(bi, bj);
+    const int column = lower_ ? std::min(bi, bj) : std::max(bi, bj);
+    ref.transposed = row != bi;
+    const int c = block_starts_[column];
+    const int* first = row_idx_.data() + col_ptr_[c];
+    const int* last = row_idx_.data() + col_ptr_[c + 1];
+    ref.offset =
+        col_ptr_[c] + static_cast<int>(std::lower_bound(first, last, block_starts_[row]) - first);
+    ref.stride = col_ptr_[c + 1] - col_ptr_[c];
     return ref;
   };
-
+  std::size_t num_refs = 0;
+  for (const Edge* e : active_edges_) num_refs += e->numVertices() * (e->numVertices() + 1) / 2;
   refs_.clear();
-  b_offsets_.clear();
-  slot_blocks_.clear();
-  edge_ref_start_.clear();
-  edge_b_start_.clear();
-  std::size_t num_slots = 0, num_refs = 0;
-  for (const Edge* e : active_edges_) {
-    num_slots += e->numVertices();
-    num_refs += e->numVertices() * (e->numVertices() + 1) / 2;
-  }
   refs_.reserve(num_refs);
-  b_offsets_.reserve(num_slots);
-  slot_blocks_.reserve(num_slots);
+  edge_ref_start_.clear();
   edge_ref_start_.reserve(active_edges_.size());
-  edge_b_start_.reserve(active_edges_.size());
-  for (Edge* e : active_edges_) {
-    edge_ref_start_.push_back(refs_.size());
-    edge_b_start_.push_back(b_offsets_.size());
-    const std::size_t n = e->numVertices();
+  for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+    edge_ref_start_.push_back(static_cast<std::uint32_t>(refs_.size()));
+    const int* cols = b_offsets_.data() + edge_b_start_[k];
+    const std::size_t n = edge_b_start_[k + 1] - edge_b_start_[k];
     for (std::size_t a = 0; a < n; ++a) {
-      const Vertex* va = e->vertex(a);
-      b_offsets_.push_back(va->hessianIndex());
-      slot_blocks_.push_back(block_of(va));
       for (std::size_t b = a; b < n; ++b) {
-        const Vertex* vb = e->vertex(b);
-        if (va->hessianIndex() < 0 || vb->hessianIndex() < 0) {
+        if (cols[a] < 0 || cols[b] < 0) {
           refs_.push_back(HessianBlockRef{});
         } else {
-          refs_.push_back(block_ref(block_of(va), block_of(vb)));
+          refs_.push_back(block_ref(block[cols[a]], block[cols[b]]));
         }
       }
     }
@@ -153,10 +223,12 @@ SparseStructure HessianStructure::sparseStructure() const {
   s.row_idx = row_idx_.data();
   s.block_starts = block_starts_.data();
   s.num_blocks = static_cast<int>(active_vertices_.size());
+  s.lower = lower_;
   return s;
 }
 
-void HessianStructure::assemble(std::vector<double>& values, std::vector<double>& gradient) const {
+void HessianStructure::assemble(std::vector<double>& values, std::vector<double>& gradient) {
+  if (edge_ref_start_.size() != active_edges_.size()) buildRefs();
   values.assign(row_idx_.size(), 0.0);
   gradient.assign(static_cast<std::size_t>(n_), 0.0);
   QuadraticFormTarget target;
@@ -198,6 +270,7 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
   const auto& active = active_vertices_;
   UnionFind uf(active.size());
   std::vector<char> anchored(active.size(), 0);
+  const std::vector<int> block = blockOfColumn();
   std::vector<int> slots;
   for (std::size_t k = 0; k < active_edges_.size(); ++k) {
     const Edge* e = active_edges_[k];
@@ -205,8 +278,8 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
     // The blocks recorded at build (not hessianIndex(): another structure on the same
     // graph may have set it since).
     for (std::size_t s = 0; s < e->numVertices(); ++s) {
-      const int b = slot_blocks_[edge_b_start_[k] + s];
-      if (b >= 0) slots.push_back(b);
+      const int col = b_offsets_[edge_b_start_[k] + s];
+      if (col >= 0) slots.push_back(block[col]);
     }
     for (std::size_t j = 1; j < slots.size(); ++j) uf.unite(slots[0], slots[j]);
     if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;

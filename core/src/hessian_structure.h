@@ -16,7 +16,10 @@ class HessianStructure {
  public:
   /// Rebuilds from the graph: the active vertices are the non-fixed ones with at least
   /// one edge, ordered by id; the active edges those with at least one active vertex.
-  void build(Graph& graph);
+  /// With `block_order` (a permutation of the active vertices in id order:
+  /// block_order[k] is the one placed at position k), the vertices take that order and H
+  /// is stored as its lower triangle (LinearSolver::preferredBlockOrder).
+  void build(Graph& graph, const std::vector<int>* block_order = nullptr);
 
   /// Whether the graph changed (vertices/edges added or removed, fixed flags changed)
   /// since the last build().
@@ -24,10 +27,13 @@ class HessianStructure {
 
   [[nodiscard]] SparseStructure sparseStructure() const;
   [[nodiscard]] int dimension() const { return n_; }
+  /// Whether H is stored as its lower triangle in a solver's block order.
+  [[nodiscard]] bool reordered() const { return lower_; }
   [[nodiscard]] std::size_t nonZeros() const { return row_idx_.size(); }
 
-  /// Zeroes H and b, then asks every active edge to add its blocks.
-  void assemble(std::vector<double>& values, std::vector<double>& gradient) const;
+  /// Zeroes H and b, then asks every active edge to add its blocks (their positions are
+  /// found at the first call after a build).
+  void assemble(std::vector<double>& values, std::vector<double>& gradient);
 
   /// Positions of the diagonal entries of H inside the value array.
   [[nodiscard]] const std::vector<int>& diagonalPositions() const { return diag_pos_; }
@@ -45,17 +51,22 @@ class HessianStructure {
   std::uint64_t version_ = ~std::uint64_t{0};
   std::vector<char> fixed_snapshot_;
   int n_ = 0;
+  bool lower_ = false;
   std::vector<Vertex*> active_vertices_;
   std::vector<int> block_starts_;
   std::vector<int> col_ptr_;
   std::vector<int> row_idx_;
   std::vector<int> diag_pos_;
   std::vector<Edge*> active_edges_;
-  std::vector<std::size_t> edge_ref_start_;  // per active edge, into refs_/b_offsets_
-  std::vector<std::size_t> edge_b_start_;
+  /// Block of every column.
+  [[nodiscard]] std::vector<int> blockOfColumn() const;
+  /// The position of every active edge's blocks in H (refs_, edge_ref_start_).
+  void buildRefs();
+
+  std::vector<std::uint32_t> edge_b_start_;    // per active edge (and one past), into b_offsets_
+  std::vector<int> b_offsets_;                 // per edge slot: its vertex's column, or -1
+  std::vector<std::uint32_t> edge_ref_start_;  // per active edge, into refs_ (empty: not built)
   std::vector<HessianBlockRef> refs_;
-  std::vector<int> b_offsets_;
-  std::vector<int> slot_blocks_;  // per active edge and slot (at edge_b_start_): block or -1
 };
 
 /// Removes the gauge freedom for the lifetime of the object: if `enabled`, no vertex is

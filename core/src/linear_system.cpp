@@ -128,6 +128,30 @@ bool LinearSystem::update(Graph& graph) {
   return true;
 }
 
+bool LinearSystem::reorder(const std::vector<int>& block_order) {
+  Impl& im = *impl_;
+  if (!im.graph) return false;
+  if (block_order.empty()) {
+    if (!im.hessian.reordered()) return true;
+    im.hessian.build(*im.graph);
+  } else {
+    const std::size_t nb = im.hessian.activeVertices().size();
+    if (block_order.size() != nb) return false;
+    std::vector<char> seen(nb, 0);
+    for (int b : block_order) {
+      if (b < 0 || static_cast<std::size_t>(b) >= nb || seen[static_cast<std::size_t>(b)]) {
+        return false;
+      }
+      seen[static_cast<std::size_t>(b)] = 1;
+    }
+    im.hessian.build(*im.graph, &block_order);
+  }
+  im.jacobian_built = false;
+  return true;
+}
+
+bool LinearSystem::reordered() const { return impl_->hessian.reordered(); }
+
 void LinearSystem::setThreads(int threads) {
   threads = std::max(threads, 1);
   if (threads != impl_->pool->threads())
@@ -160,10 +184,16 @@ void LinearSystem::linearize() {
     for (Edge* e : edges) e->linearizeOplus();
     im.parallel_edges.clear();
     im.serial_edges.clear();
-    im.parallel_edges.reserve(edges.size());
     for (Edge* e : edges) {
-      (e->perturbsVerticesInPlace() ? im.serial_edges : im.parallel_edges).push_back(e);
+      if (e->perturbsVerticesInPlace()) im.serial_edges.push_back(e);
     }
+    // Without serial edges every active edge runs in parallel: no copy of the list.
+    if (!im.serial_edges.empty()) {
+      for (Edge* e : edges) {
+        if (!e->perturbsVerticesInPlace()) im.parallel_edges.push_back(e);
+      }
+    }
+    std::vector<Edge*>(im.parallel_edges).swap(im.parallel_edges);
     im.classified = true;
     return;
   }
@@ -171,7 +201,7 @@ void LinearSystem::linearize() {
     for (Edge* e : edges) e->linearizeOplus();
     return;
   }
-  const auto& par = im.parallel_edges;
+  const auto& par = im.serial_edges.empty() ? edges : im.parallel_edges;
   im.pool->parallelFor(par.size(), kMinEdgesPerThread, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) par[k]->linearizeOplus();
   });

@@ -114,7 +114,7 @@ struct Optimizer::Impl {
   std::vector<double> dx;
   std::vector<double> saved_diag;  // diagonal of the undamped H
   std::vector<double> damping_diag;
-  std::vector<double> cg_r, cg_z, cg_p, cg_hp;  // chord steps' conjugate gradients
+  std::vector<double> cg_zhp, cg_p;  // chord steps' conjugate gradients (r lives in rhs)
 
   /// Fills the system of the form the solver consumes from the stored Jacobians.
   void assemble() {
@@ -149,9 +149,20 @@ struct Optimizer::Impl {
     }
   }
 
+  /// Symbolic analysis; for a normal-equations solver first H's layout: the optimizer's
+  /// order, or the block order the solver asks for (LinearSolver::preferredBlockOrder).
   LinearSolverResult analyze() {
-    return jacobian_form ? solver->analyzeJacobian(structure.jacobianStructure())
-                         : solver->analyze(structure.hessianStructure());
+    if (jacobian_form) return solver->analyzeJacobian(structure.jacobianStructure());
+    structure.reorder({});  // the solver is shown H in the id order
+    const std::vector<int> order = solver->preferredBlockOrder(structure.hessianStructure());
+    if (!order.empty() && !structure.reorder(order)) {
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "solver " + solver->name() +
+              " asked for a block order that is not a permutation of the " +
+              std::to_string(structure.activeVertices().size()) + " vertices");
+    }
+    return solver->analyze(structure.hessianStructure());
   }
 
   /// Factorises the system with damping lambda * damping_diag (none when lambda is 0).
@@ -178,7 +189,7 @@ struct Optimizer::Impl {
                          : solver->solve(rhs.data(), dx.data());
   }
 
-  /// y = H x, H the assembled Hessian (its upper triangle; the lower triangles of the
+  /// y = H x, H the assembled Hessian (its stored triangle; the other triangles of the
   /// diagonal blocks, also stored, are skipped).
   void hessianProduct(const std::vector<double>& x, std::vector<double>& y) const {
     const SparseStructure h = structure.hessianStructure();
@@ -188,7 +199,7 @@ struct Optimizer::Impl {
       double yc = 0.0;
       for (int k = h.col_ptr[c]; k < h.col_ptr[c + 1]; ++k) {
         const int r = h.row_idx[k];
-        if (r > c) break;  // rows are sorted
+        if (h.lower ? r < c : r > c) continue;
         yc += v[k] * x[r];
         if (r != c) y[r] += v[k] * x[c];
       }
@@ -213,9 +224,21 @@ struct Optimizer::Impl {
   std::pair<int, bool> chordSolve(double relative_tolerance, double absolute_tolerance,
                                   int max_iterations) {
     const std::size_t n = rhs.size();
-    cg_r = rhs;
+    // The residual r starts as rhs and is updated in rhs's array (rhs is -gradient: it is
+    // restored on return); z = M^-1 r is dead once p is updated, and H p takes its place
+    // (cg_zhp): two vectors of n less at the memory peak of large systems.
+    struct RestoreRhs {
+      Impl& im;
+      ~RestoreRhs() {
+        const auto& g = im.structure.gradient();
+        for (std::size_t i = 0; i < im.rhs.size(); ++i) im.rhs[i] = -g[i];
+      }
+    } restore{*this};
+    std::vector<double>& cg_r = rhs;
     dx.assign(n, 0.0);
     cg_p.assign(n, 0.0);
+    std::vector<double>& cg_z = cg_zhp;
+    std::vector<double>& cg_hp = cg_zhp;
     cg_z.resize(n);
     double rz_old = 0.0;
     double first_decrease = 0.0;

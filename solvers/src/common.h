@@ -105,13 +105,13 @@ class OrderedSolver : public LinearSolver {
                                                           Ordering label) = 0;
 };
 
-/// First column of H (upper CSC, complete blocks) whose vertex block column holds a
-/// block that is not a multiple of the identity, or whose vertices differ in dimension;
-/// -1 when H = H_s (x) I_d (isotropic_solver.cpp).
+/// First column of H (CSC of its stored triangle, complete blocks) whose vertex block column holds
+/// a block that is not a multiple of the identity, or whose vertices differ in dimension; -1 when H
+/// = H_s (x) I_d (isotropic_solver.cpp).
 [[nodiscard]] int firstNonIsotropicColumn(const SparseStructure& s, const double* h);
-/// First column of H (upper CSC, complete blocks) whose vertex is not of dimension 2 or
-/// whose block column holds a block not of the form [a -b; b a] (diagonal blocks: a I);
-/// -1 when H is the real form of a Hermitian complex matrix (isotropic_solver.cpp).
+/// First column of H (CSC of its stored triangle, complete blocks) whose vertex is not of dimension
+/// 2 or whose block column holds a block not of the form [a -b; b a] (diagonal blocks: a I); -1
+/// when H is the real form of a Hermitian complex matrix (isotropic_solver.cpp).
 [[nodiscard]] int firstNonConformalColumn(const SparseStructure& s, const double* h);
 
 inline LinearSolverResult notFinite() {

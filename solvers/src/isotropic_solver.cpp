@@ -68,9 +68,10 @@ class IsotropicSolver final : public detail::OrderedSolver {
             s.block_starts[b]);
       }
     }
-    // Entries of H_s: block (r, c), r <= c, is entry (r, c); its value is H's entry at the
-    // block's (0, 0), at the position of row r*d in column c*d; a conformal block's
-    // imaginary part is its (0, 1) entry, at the same place in the next column.
+    // Entries of H_s: block (r, c) of H's stored triangle (r <= c, or r >= c for the lower
+    // one) is entry (r, c); its value is H's entry at the block's (0, 0), at the position
+    // of row r*d in column c*d; a conformal block's imaginary part is its (0, 1) entry, at
+    // the same place in the next column.
     entry_row_.clear();
     entry_col_.clear();
     entry_pos_.clear();
@@ -80,7 +81,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       int stored = 0;
       for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; ++p) {
         const int row = s.row_idx[p];
-        if (row % d_ != 0 || row > col) continue;
+        if (row % d_ != 0 || (s.lower ? row < col : row > col)) continue;
         ++stored;
         entry_row_.push_back(row / d_);
         entry_col_.push_back(c);
@@ -203,8 +204,8 @@ class IsotropicSolver final : public detail::OrderedSolver {
               std::to_string(bad - bad % 2 + 1) + " is not of the form [a -b; b a]",
           bad);
     }
-    // Entry (r, c), r <= c, of M: a + ib for H's block [a -b; b a]; b is read from the
-    // block's (0, 1) entry, which is stored for diagonal blocks too (and is 0 there). An
+    // Entry (r, c) of M (a block of H's stored triangle): a + ib for H's block
+    // [a -b; b a]; b is read from the block's (0, 1) entry (diagonal entries are real). An
     // entry the permutation moved to the other triangle is M(c, r) = conj(M(r, c)).
     values_.resize(2 * source_.size());
     for (std::size_t k = 0; k < source_.size(); ++k) {
@@ -254,8 +255,11 @@ class IsotropicSolver final : public detail::OrderedSolver {
       if (conformal_) {
         // B(i, j) = M(r, c) when row i holds r, else conj(M(r, c)); M's imaginary part
         // is minus the block's (0, 1) entry.
+        // A diagonal entry is real (its (0, 1) entry may lie in the triangle not read).
         source01_[at] = entry_pos01_[e];
-        imag_sign_[at] = pos[entry_row_[e]] == i ? -1.0 : 1.0;
+        imag_sign_[at] = entry_row_[e] == entry_col_[e] ? 0.0
+                         : pos[entry_row_[e]] == i      ? -1.0
+                                                        : 1.0;
       }
     }
     block_starts_.resize(static_cast<std::size_t>(nb_) + 1);
@@ -301,7 +305,8 @@ int firstNonIsotropicColumn(const SparseStructure& s, const double* h) {
         const double v = h[s.col_ptr[first] + k];
         const int p = s.col_ptr[col] + k;
         const int row0 = s.row_idx[p];
-        for (int i = 0; i < d && row0 + i <= col; ++i) {  // below the diagonal: not read
+        for (int i = 0; i < d; ++i) {
+          if (s.lower ? row0 + i < col : row0 + i > col) continue;  // the triangle not read
           const double expected = i == j ? v : 0.0;
           if (!(std::abs(h[p + i] - expected) <= kRelativeTolerance * std::abs(v))) return col;
         }
@@ -320,13 +325,13 @@ int firstNonConformalColumn(const SparseStructure& s, const double* h) {
     for (int k = 0; k < stored; k += 2) {
       const int p0 = s.col_ptr[first] + k;      // (0, 0), then (1, 0)
       const int p1 = s.col_ptr[first + 1] + k;  // (0, 1), then (1, 1)
+      const bool diagonal = s.row_idx[p0] == first;
       const double a = h[p0];
-      const double b = -h[p1];
+      // A diagonal block's b is read from the triangle stored: (0, 1) holds -b, (1, 0) b.
+      const double b = diagonal && s.lower ? h[p0 + 1] : -h[p1];
       const double tol = kRelativeTolerance * (std::abs(a) + std::abs(b));
       if (!(std::abs(h[p1 + 1] - a) <= tol)) return first + 1;
-      // Diagonal block: symmetric, so b = 0 (its (1, 0) entry is below the diagonal and
-      // not read); otherwise (1, 0) = b.
-      const bool diagonal = s.row_idx[p0] == first;
+      // Diagonal block: symmetric, so b = 0; otherwise (1, 0) = b.
       if (diagonal ? !(std::abs(b) <= tol) : !(std::abs(h[p0 + 1] - b) <= tol)) return first;
     }
   }

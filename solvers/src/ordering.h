@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/ordering.h"
 
 namespace graphslam::solvers::detail {
 
@@ -35,6 +36,9 @@ struct BlockGraph {
 /// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
 /// kAmd and kMetis order the block graph of J^T J.
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s);
+
+/// chooseOrdering() with H's block graph already built (blockGraph(s)).
+[[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s, const BlockGraph& g);
 
 /// Inverse of a permutation.
 [[nodiscard]] std::vector<int> inversePermutation(const std::vector<int>& perm);

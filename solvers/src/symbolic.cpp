@@ -52,13 +52,15 @@ SymbolicCost symbolicCost(const SparseStructure& s, const std::vector<int>& orde
   return symbolicCost(s, blockGraph(s), order);
 }
 
-SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
-                          const std::vector<int>& order) {
+namespace {
+/// Blocks in the order their first column appears in `order`: position -> block, and
+/// block -> position.
+void blockSequence(const SparseStructure& s, const std::vector<int>& order,
+                   std::vector<int>& old_of, std::vector<int>& new_of) {
   const int nb = s.num_blocks;
   const std::vector<int> block = blockOfColumn(s.block_starts, nb, s.n);
-  // Block order: blocks in the order their first column appears.
-  std::vector<int> new_of(static_cast<std::size_t>(nb), -1);  // original block -> position
-  std::vector<int> old_of;                                    // position -> original block
+  new_of.assign(static_cast<std::size_t>(nb), -1);
+  old_of.clear();
   old_of.reserve(static_cast<std::size_t>(nb));
   for (int c : order) {
     const int b = block[c];
@@ -67,6 +69,12 @@ SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
       old_of.push_back(b);
     }
   }
+}
+
+/// symbolicCost() on the block sequence, with the tree and counts if asked for.
+SymbolicCost permutedCost(const SparseStructure& s, const BlockGraph& g,
+                          const std::vector<int>& old_of, const std::vector<int>& new_of,
+                          std::vector<int>* parent, std::vector<int>* counts) {
   auto dim = [&](int pos) {
     const int b = old_of[pos];
     return s.block_starts[b + 1] - s.block_starts[b];
@@ -75,7 +83,26 @@ SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
     const int b = old_of[k];
     for (int p = g.ptr[b]; p < g.ptr[b + 1]; ++p) visit(new_of[g.idx[p]]);
   };
-  return costOf(nb, neighbours, dim, nullptr, nullptr);
+  return costOf(s.num_blocks, neighbours, dim, parent, counts);
+}
+}  // namespace
+
+std::vector<int> postorderedBlocks(const SparseStructure& s, const BlockGraph& g,
+                                   const std::vector<int>& order) {
+  std::vector<int> old_of, new_of, parent, counts;
+  blockSequence(s, order, old_of, new_of);
+  permutedCost(s, g, old_of, new_of, &parent, &counts);
+  const std::vector<int> post = postorder(parent, counts);
+  std::vector<int> blocks(post.size());
+  for (std::size_t k = 0; k < post.size(); ++k) blocks[k] = old_of[post[k]];
+  return blocks;
+}
+
+SymbolicCost symbolicCost(const SparseStructure& s, const BlockGraph& g,
+                          const std::vector<int>& order) {
+  std::vector<int> old_of, new_of;
+  blockSequence(s, order, old_of, new_of);
+  return permutedCost(s, g, old_of, new_of, nullptr, nullptr);
 }
 
 SymbolicCost symbolicCostNatural(const SparseStructure& s, std::vector<int>* parent,

@@ -55,6 +55,14 @@ struct SymbolicCost {
                                                std::vector<int>* parent = nullptr,
                                                std::vector<int>* counts = nullptr);
 
+/// The blocks of `order` (scalar columns, each block's contiguous), as a permutation of
+/// the blocks (result[k]: the block at position k), postordered by the block elimination
+/// tree of P H P^T as CHOLMOD postorders (postorder() with the column counts): a
+/// factorisation in this order, without a postorder of its own, has the fill and the
+/// supernodes of `order` postordered.
+[[nodiscard]] std::vector<int> postorderedBlocks(const SparseStructure& s, const BlockGraph& g,
+                                                 const std::vector<int>& order);
+
 /// A postorder of a forest, weighted as CHOLMOD's: each node's children in increasing
 /// `weight` (column counts), so the heaviest child comes right before its parent and can
 /// share its supernode. post[k] = node at position k.

@@ -992,6 +992,149 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   std::printf("%s\n", solver->name().c_str());
 }
 
+/// H of a GridOfPairs laid out in a block order (order[k]: the block at position k) as its
+/// lower triangle, complete 2x2 blocks, as the optimizer lays it out for a solver that asks
+/// for that order (LinearSolver::preferredBlockOrder).
+struct LowerLayout {
+  std::vector<int> col_ptr, row_idx, source, block_starts, new_column;
+  SparseStructure structure;
+
+  LowerLayout(const GridOfPairs& pairs, const std::vector<int>& order) {
+    const SparseStructure& s = pairs.structure;
+    std::vector<int> pos(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) pos[order[k]] = static_cast<int>(k);
+    new_column.resize(static_cast<std::size_t>(s.n));
+    for (int c = 0; c < s.n; ++c) new_column[c] = 2 * pos[c / 2] + c % 2;
+    std::vector<std::vector<std::pair<int, int>>> columns(static_cast<std::size_t>(s.n));
+    for (int c = 0; c < s.n; ++c) {
+      for (int k = pairs.col_ptr[c]; k < pairs.col_ptr[c + 1]; ++k) {
+        const int r = pairs.row_idx[k];
+        const int nr = new_column[r], nc = new_column[c];
+        if (r / 2 == c / 2) {
+          columns[nc].emplace_back(nr, k);  // the diagonal block, complete
+        } else {
+          columns[std::min(nr, nc)].emplace_back(std::max(nr, nc), k);
+        }
+      }
+    }
+    col_ptr.assign(1, 0);
+    for (auto& column : columns) {
+      std::sort(column.begin(), column.end());
+      for (const auto& [r, k] : column) {
+        row_idx.push_back(r);
+        source.push_back(k);
+      }
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+    for (int b = 0; b <= s.num_blocks; ++b) block_starts.push_back(2 * b);
+    structure = s;
+    structure.col_ptr = col_ptr.data();
+    structure.row_idx = row_idx.data();
+    structure.block_starts = block_starts.data();
+    structure.lower = true;
+  }
+  [[nodiscard]] std::vector<double> values(const std::vector<double>& id_values) const {
+    std::vector<double> v(source.size());
+    for (std::size_t k = 0; k < source.size(); ++k) v[k] = id_values[source[k]];
+    return v;
+  }
+  /// Solves with `solver` in this layout and returns x in the id order.
+  std::vector<double> solve(LinearSolver& solver, const std::vector<double>& rhs) const {
+    std::vector<double> b(rhs.size()), x(rhs.size()), out(rhs.size());
+    for (std::size_t c = 0; c < rhs.size(); ++c) b[new_column[c]] = rhs[c];
+    EXPECT_TRUE(solver.solve(b.data(), x.data()).ok());
+    for (std::size_t c = 0; c < rhs.size(); ++c) out[c] = x[new_column[c]];
+    return out;
+  }
+};
+
+// A large block system (supernodal CHOLMOD) makes `auto` ask for H in its fill-reducing
+// order, postordered, as the lower triangle: CHOLMOD then factorises H's own arrays. Every
+// path takes that layout: the complex one (blocks [a -b; b a]), the scalar one (H_s (x) I),
+// and the real block factor; a failed pivot names its column in that order, and a lower
+// triangle given without asking for it is refused.
+TEST(Solvers_Auto, LargeBlockSystemsTakeTheirOrderAsTheLowerTriangleOnEveryPath) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  if (!registry.contains("cholmod")) GTEST_SKIP() << "the supernodal path needs CHOLMOD";
+  const GridPattern grid(300);  // 90000 blocks of 2x2
+  const GridOfPairs pairs(grid);
+  const SparseStructure& s = pairs.structure;
+  std::vector<int> identity(static_cast<std::size_t>(s.num_blocks));
+  std::iota(identity.begin(), identity.end(), 0);
+  {
+    auto unasked = registry.create("auto");
+    const LowerLayout layout(pairs, identity);
+    EXPECT_FALSE(unasked->analyze(layout.structure).ok());
+  }
+  auto solver = registry.create("auto");
+  const std::vector<int> order = solver->preferredBlockOrder(s);
+  ASSERT_EQ(order.size(), identity.size());
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  ASSERT_EQ(sorted, identity);
+  EXPECT_NE(order, identity);  // METIS or AMD
+  const LowerLayout layout(pairs, order);
+  ASSERT_TRUE(solver->analyze(layout.structure).ok());
+
+  // Values per block column: off-diagonal blocks from `off`, diagonal blocks 5 I.
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  auto fill = [&](auto&& off) {
+    std::vector<double> values(pairs.row_idx.size(), 0.0);
+    for (int c = 0; c < grid.structure.n; ++c) {
+      const int len = pairs.col_ptr[2 * c + 1] - pairs.col_ptr[2 * c];
+      for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
+        double* v = values.data() + pairs.col_ptr[2 * c] + 2 * (k - grid.col_ptr[c]);
+        if (grid.row_idx[k] == c) {
+          v[0] = v[len + 1] = 5.0;
+        } else {
+          off(v, len);
+        }
+      }
+    }
+    return values;
+  };
+  const std::vector<double> conformal = fill([&](double* v, int len) {
+    const double t = angle(rng);
+    v[0] = v[len + 1] = std::cos(t);
+    v[1] = std::sin(t);
+    v[len] = -std::sin(t);
+  });
+  const std::vector<double> isotropic = fill([](double* v, int len) { v[0] = v[len + 1] = -1.0; });
+  std::vector<double> general = conformal;
+  // Vertex 200's diagonal block (the last of its upper columns) becomes diag(5.5, 5): the
+  // real block factor.
+  general[pairs.col_ptr[2 * 200 + 1] - 2] = 5.5;
+  std::vector<double> rhs(static_cast<std::size_t>(s.n));
+  for (double& r : rhs) r = angle(rng);
+  const std::vector<std::pair<const std::vector<double>*, const char*>> cases = {
+      {&conformal, "(complex path)"}, {&isotropic, "(isotropic path)"}, {&general, nullptr}};
+  for (const auto& [values, path] : cases) {
+    const LinearSolverResult f = solver->factorize(layout.values(*values).data());
+    ASSERT_TRUE(f.ok()) << solver->name() << ": " << f.message;
+    if (path) {
+      EXPECT_NE(solver->name().find(path), std::string::npos) << solver->name();
+    } else {
+      EXPECT_EQ(solver->name().find("path)"), std::string::npos) << solver->name();
+    }
+    EXPECT_LT(pairs.residual(*values, layout.solve(*solver, rhs), rhs), 1e-9) << solver->name();
+  }
+  // An indefinite diagonal block: the failure names the vertex's first column in the order.
+  const int bad_vertex = 4321;
+  std::vector<double> indefinite = general;
+  for (int j = 0; j < 2; ++j) {
+    const int col = 2 * bad_vertex + j;
+    for (int k = pairs.col_ptr[col]; k < pairs.col_ptr[col + 1]; ++k) {
+      if (pairs.row_idx[k] == col) indefinite[k] = -50.0;
+    }
+  }
+  const LinearSolverResult r = solver->factorize(layout.values(indefinite).data());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
+  EXPECT_EQ(r.column, layout.new_column[2 * bad_vertex]) << r.message;
+}
+
 // A factor of tens of MB: CHOLMOD's large allocations (the factor's values here) are
 // faulted in on two threads by graphslam's SuiteSparse allocation hooks; the
 // factorisation must stay exact and the process intact.

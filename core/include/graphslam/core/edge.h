@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,23 @@ inline constexpr double kNumericJacobianStep = 1e-6;
 /// arity n.
 constexpr int upperPairIndex(int a, int b, int n) { return a * n - a * (a - 1) / 2 + (b - a); }
 
+/// The vertex ids of an edge, slot by slot: a read-only view of the edge's storage (valid
+/// while the edge lives and its ids do not change), convertible to a vector.
+class VertexIdView {
+ public:
+  VertexIdView(const VertexId* data, std::size_t size) : data_(data), size_(size) {}
+  [[nodiscard]] const VertexId* begin() const { return data_; }
+  [[nodiscard]] const VertexId* end() const { return data_ + size_; }
+  [[nodiscard]] std::size_t size() const { return size_; }
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+  VertexId operator[](std::size_t slot) const { return data_[slot]; }
+  operator std::vector<VertexId>() const { return {begin(), end()}; }  // NOLINT: implicit
+
+ private:
+  const VertexId* data_;
+  std::size_t size_;
+};
+
 /// A measurement: an error function of the estimates of its vertices, weighted by an
 /// information matrix. chi2 = e^T Omega e.
 ///
@@ -48,9 +66,9 @@ class Edge {
  public:
   /// `arity` is the number of vertices, or -1 when it is set per instance (multi-edges).
   Edge(int dimension, int arity) : dimension_(dimension), arity_(arity) {
-    if (arity > 0) vertex_ids_.assign(static_cast<std::size_t>(arity), -1);
+    if (arity > 0) resizeVertices(static_cast<std::size_t>(arity));
   }
-  virtual ~Edge() = default;
+  virtual ~Edge() { resizeVertices(0); }
   Edge(const Edge&) = delete;
   Edge& operator=(const Edge&) = delete;
 
@@ -59,15 +77,16 @@ class Edge {
   /// Number of vertices the type takes, -1 for dynamic arity.
   [[nodiscard]] int arity() const { return arity_; }
 
-  [[nodiscard]] std::size_t numVertices() const { return vertex_ids_.size(); }
-  [[nodiscard]] const std::vector<VertexId>& vertexIds() const { return vertex_ids_; }
-  [[nodiscard]] VertexId vertexId(std::size_t slot) const { return vertex_ids_.at(slot); }
+  [[nodiscard]] std::size_t numVertices() const { return num_vertices_; }
+  [[nodiscard]] VertexIdView vertexIds() const { return {ids(), num_vertices_}; }
+  /// Throws std::out_of_range for a slot the edge does not have.
+  [[nodiscard]] VertexId vertexId(std::size_t slot) const;
   /// Before the edge is added to a graph. Throws graphslam::Error on a wrong count.
   void setVertexIds(std::vector<VertexId> ids);
   void setVertexId(std::size_t slot, VertexId id);
 
   /// Vertex in `slot`, resolved by the graph (nullptr before insertion).
-  [[nodiscard]] const Vertex* vertex(std::size_t slot) const { return vertices_[slot]; }
+  [[nodiscard]] const Vertex* vertex(std::size_t slot) const { return vertices()[slot]; }
   [[nodiscard]] bool allVerticesFixed() const;
 
   /// Whether `v` has the type slot `slot` expects (checked by Graph::addEdge).
@@ -116,7 +135,7 @@ class Edge {
   /// methods that initialise a vertex from the measurement (odometry chaining, landmark
   /// initialisation). Never use it in computeError() or linearizeOplus().
   [[nodiscard]] Vertex* mutableVertex(std::size_t slot) {
-    return slot < vertices_.size() ? vertices_[slot] : nullptr;
+    return slot < num_vertices_ ? vertices()[slot] : nullptr;
   }
 
   /// Central-difference Jacobian of the error w.r.t. the vertex in `slot`, perturbing
@@ -128,10 +147,36 @@ class Edge {
 
  private:
   friend class Graph;
+  /// Up to this many vertices, their ids and pointers live inside the edge (no heap block:
+  /// 80 bytes less per edge, 122 MiB on a 1M-pose graph).
+  static constexpr std::size_t kInlineVertices = 2;
+  [[nodiscard]] const VertexId* ids() const {
+    return num_vertices_ <= kInlineVertices ? inline_ids_ : heap_ids_;
+  }
+  [[nodiscard]] VertexId* ids() {
+    return num_vertices_ <= kInlineVertices ? inline_ids_ : heap_ids_;
+  }
+  [[nodiscard]] Vertex* const* vertices() const {
+    return num_vertices_ <= kInlineVertices ? inline_vertices_ : heap_vertices_;
+  }
+  [[nodiscard]] Vertex** vertices() {
+    return num_vertices_ <= kInlineVertices ? inline_vertices_ : heap_vertices_;
+  }
+  /// n slots with id -1 and no vertex (the previous ones dropped).
+  void resizeVertices(std::size_t n);
+
   int dimension_;
   int arity_;
-  std::vector<VertexId> vertex_ids_;
-  std::vector<Vertex*> vertices_;
+  std::uint32_t num_vertices_ = 0;
+  bool in_graph_ = false;  // vertices resolved by Graph::addEdge
+  union {
+    VertexId inline_ids_[kInlineVertices];
+    VertexId* heap_ids_;
+  };
+  union {
+    Vertex* inline_vertices_[kInlineVertices];
+    Vertex** heap_vertices_;
+  };
 };
 
 }  // namespace graphslam

@@ -41,8 +41,10 @@ enum class SystemForm {
 };
 
 /// Sparsity structure of a symmetric n x n matrix H in compressed sparse column form.
-/// Only the upper triangle is meaningful; the diagonal blocks are stored full (both
-/// triangles), and solvers must ignore entries below the diagonal. Every stored block is
+/// Only the upper triangle is meaningful (the lower one when `lower` is set: only for a
+/// solver that asked for it, LinearSolver::preferredBlockOrder); the diagonal blocks are
+/// stored full (both triangles), and solvers must ignore entries on the other side of the
+/// diagonal. Every stored block is
 /// complete (all its entries, structural zeros too), so all columns of a vertex store the
 /// same rows. Row indices are
 /// sorted within each column. `block_starts` (size num_blocks + 1) gives the first column
@@ -54,6 +56,8 @@ struct SparseStructure {
   const int* row_idx = nullptr;  ///< col_ptr[n] entries
   const int* block_starts = nullptr;
   int num_blocks = 0;
+  /// The lower triangle is stored (rows >= column in every column) instead of the upper.
+  bool lower = false;
 
   [[nodiscard]] std::size_t nnz() const { return n ? static_cast<std::size_t>(col_ptr[n]) : 0u; }
 };
@@ -111,6 +115,19 @@ class LinearSolver {
   [[nodiscard]] virtual SystemForm form() const { return SystemForm::kNormalEquations; }
   /// The ordering in use (after analyze: the one actually applied).
   [[nodiscard]] virtual Ordering ordering() const { return Ordering::kDefault; }
+
+  /// Asked once per structure, before analyze(), with H's structure in the optimizer's
+  /// order (active vertices by id, upper triangle). A solver that returns a permutation of
+  /// the blocks (order[k]: the block placed at position k) gets H built in that order and
+  /// stored as its lower triangle (SparseStructure::lower); analyze(), factorize() and
+  /// solve() then take that matrix, and right-hand sides, solutions and failing columns
+  /// are in that order. A factorisation that reads its input as it is (CHOLMOD's
+  /// supernodal one in its natural order) so needs no permuted copy of H. Default: empty,
+  /// H as it is.
+  [[nodiscard]] virtual std::vector<int> preferredBlockOrder(const SparseStructure& structure) {
+    (void)structure;
+    return {};
+  }
 
   [[nodiscard]] virtual LinearSolverResult analyze(const SparseStructure& structure);
   /// `values` has structure.nnz() entries in the order of `row_idx`.

@@ -12,13 +12,14 @@ namespace graphslam {
 /// The linearisation of a graph's least-squares problem at the current estimates, in the
 /// two forms a LinearSolver consumes:
 ///  - normal equations H dx = -g, H = sum J^T Omega J stored as the upper triangle with
-///    full diagonal blocks (SparseStructure), g = sum J^T Omega e;
+///    full diagonal blocks (SparseStructure; the lower one in a solver's order after
+///    reorder()), g = sum J^T Omega e;
 ///  - the whitened Jacobian J_w dx ~= -r_w with J_w = W J, r_w = W e, W^T W = Omega
 ///    (JacobianStructure, with one damping row per column at the bottom).
-/// The active vertices are the non-fixed ones with at least one edge, in id order; they
-/// get consecutive columns (Vertex::hessianIndex). Structures are rebuilt only when the
-/// graph changes (vertices or edges added or removed, fixed flags changed). The optimizer
-/// uses this class; so can tools that study linear solvers on a graph's system.
+/// The active vertices are the non-fixed ones with at least one edge, in id order (or a
+/// solver's order, reorder()); they get consecutive columns (Vertex::hessianIndex). Structures are
+/// rebuilt only when the graph changes (vertices or edges added or removed, fixed flags changed).
+/// The optimizer uses this class; so can tools that study linear solvers on a graph's system.
 class LinearSystem {
  public:
   LinearSystem();
@@ -29,6 +30,15 @@ class LinearSystem {
   /// Rebuilds the structures when `graph` changed since the last call (or on the first
   /// call). Returns whether it rebuilt. The graph must outlive this object's use.
   bool update(Graph& graph);
+  /// Rebuilds H's structure with the active vertices in `block_order` (a permutation of
+  /// them in id order: block_order[k] is the one placed at position k) and H stored as
+  /// its lower triangle (LinearSolver::preferredBlockOrder); an empty order restores the
+  /// id order and the upper triangle. Vertex::hessianIndex, the gradient and the
+  /// diagonal positions follow. Returns false (and changes nothing) when `block_order`
+  /// is not a permutation of the active vertices. Needs a prior update().
+  bool reorder(const std::vector<int>& block_order);
+  /// Whether H is stored in a solver's block order (reorder() with a permutation).
+  [[nodiscard]] bool reordered() const;
 
   /// Threads for computeChi2() and linearize() (>= 1, the caller's included; default 1).
   /// The results are the same bits for every thread count: each edge writes only itself
