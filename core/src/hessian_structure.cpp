@@ -160,8 +160,9 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   edge_b_start_.reserve(active_edges_.size() + 1);
   for (const Edge* e : active_edges_) {
     edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
-    for (std::size_t a = 0; a < e->numVertices(); ++a)
+    for (std::size_t a = 0; a < e->numVertices(); ++a) {
       b_offsets_.push_back(e->vertex(a)->hessianIndex());
+    }
   }
   edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
   std::vector<HessianBlockRef>().swap(refs_);
@@ -275,7 +276,7 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
   for (std::size_t k = 0; k < active_edges_.size(); ++k) {
     const Edge* e = active_edges_[k];
     slots.clear();
-    // The blocks recorded at build (not hessianIndex(): another structure on the same
+    // The columns recorded at build (not hessianIndex(): another structure on the same
     // graph may have set it since).
     for (std::size_t s = 0; s < e->numVertices(); ++s) {
       const int col = b_offsets_[edge_b_start_[k] + s];

@@ -50,9 +50,11 @@ class AutoSolver final : public LinearSolver {
   /// instead of a permuted copy made in every factorisation (265 MiB at 1M poses).
   std::vector<int> preferredBlockOrder(const SparseStructure& s) override {
     planned_order_.clear();
+    planned_for_ = {};
     if (s.lower) return {};
     const detail::BlockGraph g = detail::blockGraph(s);
     plan(s, g);
+    planned_for_ = s;  // analyze() of this same structure keeps the plan
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     if (plan_.supernodal && plan_.blocks) {
       planned_order_ = detail::postorderedBlocks(s, g, plan_.chosen.perm);
@@ -73,10 +75,11 @@ class AutoSolver final : public LinearSolver {
       }
       plan_.chosen.perm.resize(static_cast<std::size_t>(s.n));
       std::iota(plan_.chosen.perm.begin(), plan_.chosen.perm.end(), 0);
-    } else {
+    } else if (!samePattern(planned_for_, s)) {
       plan(s, detail::blockGraph(s));
     }
     planned_order_.clear();
+    planned_for_ = {};
     const CholeskyPrediction& cost = plan_.chosen.prediction;
     const Ordering label = plan_.chosen.ordering;
     const char* backend = "eigen-ldlt";
@@ -166,6 +169,12 @@ class AutoSolver final : public LinearSolver {
     bool blocks = false;      // vertices of 2 or 3 dimensions: fixed-size block kernels
     bool supernodal = false;  // CHOLMOD's supernodal factorisation
   };
+  /// Whether two structures are the same arrays (a plan made for one holds for the other).
+  static bool samePattern(const SparseStructure& a, const SparseStructure& b) {
+    return a.n > 0 && a.n == b.n && a.col_ptr == b.col_ptr && a.row_idx == b.row_idx &&
+           a.block_starts == b.block_starts && a.num_blocks == b.num_blocks && a.lower == b.lower &&
+           a.nnz() == b.nnz();
+  }
   void plan(const SparseStructure& s, const detail::BlockGraph& g) {
     plan_.chosen = detail::chooseOrdering(s, g);
     // Fixed-size blocks pay for vertices of 2 or 3 dimensions (2D SLAM); scalar systems
@@ -184,6 +193,7 @@ class AutoSolver final : public LinearSolver {
   bool analyzed_ = false;
   Plan plan_;
   std::vector<int> planned_order_;  // the block order preferredBlockOrder() asked for
+  SparseStructure planned_for_;     // the structure plan_ was made for (n = 0: none)
   // The backend (block-llt, eigen-ldlt or cholmod) and the scalar and complex paths for
   // isotropic and conformal values, each made and analysed at its first use with the
   // same ordering; active_ is the one of the last factorisation.
