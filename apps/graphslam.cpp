@@ -21,6 +21,7 @@
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
+#include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/initialization.h"
 #include "graphslam/types_slam2d/point_ground_truth.h"
 #include "graphslam/types_slam2d/simulator.h"
@@ -337,6 +338,8 @@ int cmdListSolvers(const std::vector<std::string>& args) {
                 e->form == SystemForm::kJacobian ? "J" : "H", orderings.c_str(),
                 e->description.c_str(), e->origin.c_str());
   }
+  std::printf("block-llt kernels: %s (GRAPHSLAM_SIMD=portable selects the portable ones)\n",
+              solvers::blockKernelPath());
   return kExitOk;
 }
 

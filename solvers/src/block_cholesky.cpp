@@ -17,6 +17,7 @@
 #include <string>
 #include <type_traits>
 
+#include "block_kernels.h"
 #include "common.h"
 #include "ordering.h"
 #include "symbolic.h"
@@ -56,6 +57,14 @@ class BlockCholesky final : public detail::OrderedSolver {
  public:
   using Block = Eigen::Matrix<double, B, B>;
   using Vec = Eigen::Matrix<double, B, 1>;
+  /// Accumulator of a row of L (y in factorizeColumns): B x B, padded to whole vectors
+  /// for the kernel (block_kernels.h).
+  static constexpr int P = detail::paddedRows(B);
+  using Work = Eigen::Matrix<double, P, B>;
+  // The kernel walks both arrays as plain doubles.
+  static_assert(sizeof(Block) == sizeof(double) * B * B && sizeof(Work) == sizeof(double) * P * B);
+
+  BlockCholesky() : eliminate_(detail::eliminateKernel(B)) {}
 
   std::string name() const override { return "block-llt"; }
 
@@ -224,7 +233,7 @@ class BlockCholesky final : public detail::OrderedSolver {
       const bool in_tail = k >= tail_;
       // y = A(k, 0..k) into work_ (the diagonal block too).
       for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) work_[row_idx_[q]].setZero();
-      Block diag = Block::Zero();
+      Work diag = Work::Zero();
       const int dk = dim(old_[k]);
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
         const AEntry& e = a_[q];
@@ -245,11 +254,12 @@ class BlockCholesky final : public detail::OrderedSolver {
           }
         }
         if (e.row == k) {
-          diag = blk.template selfadjointView<Eigen::Upper>();
+          diag.template topRows<B>() = blk.template selfadjointView<Eigen::Upper>();
         } else if (e.transposed) {
-          work_[e.row] = blk;  // stored as (k, row) in H: already A(k, row)
+          work_[e.row].template topRows<B>() = blk;  // stored as (k, row) in H: A(k, row)
         } else {
-          work_[e.row] = blk.transpose();  // A(row, k) stored: A(k, row) is its transpose
+          // A(row, k) stored: A(k, row) is its transpose
+          work_[e.row].template topRows<B>() = blk.transpose();
         }
       }
       for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
@@ -259,25 +269,27 @@ class BlockCholesky final : public detail::OrderedSolver {
         if (i >= tail_) continue;
         // L(k, i) = y_i L(i, i)^{-T}, with the inverse kept from column i's factorisation
         // (a fixed-size product; Eigen's triangular solve takes its general path here).
-        const Block lki = work_[i] * inverse_[i].transpose();
-        values_[entry_[q]] = lki;
-        // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i));
-        // rows p in the tail go to the dense matrix, which then holds
-        // A_TT - L_T,<tail L_T,<tail^T.
+        // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i))
+        // and the diagonal block's, in one call of the kernel; rows p in the tail go to
+        // the dense matrix, which then holds A_TT - L_T,<tail L_T,<tail^T.
         int e = col_ptr_[i] + 1;
-        for (; e < entry_[q] && col_row_[e] < tail_; ++e) {
-          work_[col_row_[e]].noalias() -= lki * values_[e].transpose();
+        int stop = entry_[q];
+        if (tail_ < nb_) {
+          stop = e;
+          while (stop < entry_[q] && col_row_[stop] < tail_) ++stop;
         }
+        eliminate_(work_[i].data(), inverse_[i].data(), values_[entry_[q]].data(),
+                   values_.data()->data() + static_cast<std::ptrdiff_t>(e) * B * B,
+                   col_row_.data() + e, stop - e, work_.data()->data(), diag.data());
         if (in_tail) {
-          for (; e < entry_[q]; ++e) subtractFromTail(lki, values_[e], k, col_row_[e]);
+          const Block& lki = values_[entry_[q]];
+          for (e = stop; e < entry_[q]; ++e) subtractFromTail(lki, values_[e], k, col_row_[e]);
           subtractFromTail(lki, lki, k, k);
-          continue;
         }
-        diag.noalias() -= lki * lki.transpose();
       }
       if (in_tail) continue;
       for (int t = dk; t < B; ++t) diag(t, t) = 1.0;  // padding
-      Eigen::LLT<Block> llt(diag);
+      Eigen::LLT<Block> llt(diag.template topRows<B>());
       if (llt.info() != Eigen::Success) {
         return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                            "non-positive pivot block", start_[old_[k]]);
@@ -412,13 +424,14 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<int> row_ptr_, row_idx_, entry_;
   std::vector<int> col_ptr_, col_row_;
   std::vector<Block, Eigen::aligned_allocator<Block>> values_;
-  std::vector<Block, Eigen::aligned_allocator<Block>> work_;
+  std::vector<Work, Eigen::aligned_allocator<Work>> work_;
   std::vector<Block, Eigen::aligned_allocator<Block>> inverse_;  // L(k, k)^{-1}
   std::vector<Vec> y_;
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
   Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
   Eigen::VectorXd tail_rhs_;
+  detail::EliminateFn eliminate_;
 };
 
 /// Picks the block size at analysis: the largest vertex dimension (1, 2 or 3).

@@ -5,9 +5,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <random>
 #include <set>
+#include <string>
 
 #include "graphslam/core/error.h"
 #include "graphslam/solvers/ordering.h"
@@ -632,6 +634,34 @@ TEST(Solvers_BlockLlt, MixedVertexDimensionsArePadded) {
   const LinearSolverResult r = sys.negatedBlockFailure(registry, "block-llt:natural", 4);
   EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite);
   EXPECT_EQ(r.column, sys.starts[4]);
+}
+
+TEST(Solvers_BlockLlt, LongColumnsOfEveryBlockSizeAreExact) {
+  // 120 vertices coupled at random: under the natural order L's columns hold dozens of
+  // blocks, and each entry of a row is a long run of the elimination kernel. Runs on the
+  // AVX2/FMA kernels where the CPU has them, and on the portable ones in the ctest entry
+  // Solvers_PortableBlockKernels (GRAPHSLAM_SIMD=portable).
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  for (int d : {1, 2, 3}) {
+    std::mt19937 rng(40 + d);
+    const int nb = 120;
+    const MixedSystem sys(std::vector<int>(nb, d), chainAndRandomPairs(nb, rng), rng);
+    for (const char* spec : {"block-llt:natural", "block-llt:amd"}) {
+      EXPECT_LT(sys.solveError(registry, spec), 1e-12) << "dimension " << d << ", " << spec;
+    }
+  }
+}
+
+TEST(Solvers_BlockLlt, KernelPathFollowsTheCpuAndTheEnvironment) {
+  const char* env = std::getenv("GRAPHSLAM_SIMD");
+  const bool portable = env && std::string(env) == "portable";
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  const bool avx2 = false;
+#endif
+  EXPECT_STREQ(solvers::blockKernelPath(), avx2 && !portable ? "avx2-fma" : "portable");
 }
 
 TEST(Solvers_BlockLlt, ScalarUnknownsTakeOneByOneBlocks) {

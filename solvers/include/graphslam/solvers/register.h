@@ -22,6 +22,13 @@ void registerSuiteSparseSolvers(SolverRegistry& registry);
 /// cholmod when the work is large (without SuiteSparse: eigen-ldlt with AMD).
 void registerAutoSolver(SolverRegistry& registry);
 
+/// The kernels block-llt (and auto, which factorises with it) uses in this process:
+/// "avx2-fma" on CPUs with AVX2 and FMA, else "portable" (the x86-64 baseline the library
+/// is built for). The environment variable GRAPHSLAM_SIMD=portable, read once per
+/// process, selects the portable ones everywhere. The two round differently in the last
+/// bits (fused multiply-adds).
+[[nodiscard]] const char* blockKernelPath();
+
 /// Registers every solver this build has.
 void registerSolvers(SolverRegistry& registry);
 

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::solvers: the innermost loop of block-llt, with an AVX2/FMA version
+// chosen at run time on CPUs that have it (the library itself is built for the portable
+// x86-64 baseline, SSE2, as Debian builds).
+#pragma once
+
+namespace graphslam::solvers::detail {
+
+/// Rows of the accumulator blocks of block-llt for B x B blocks: 3 x 3 blocks are kept
+/// in 4 x 3 (each column one 256-bit vector; the fourth row is scratch), the others as
+/// they are.
+constexpr int paddedRows(int block_size) { return block_size == 3 ? 4 : block_size; }
+
+/// One entry L(k, i) of block-llt's up-looking row k, B x B blocks (column-major):
+///   L(k, i) = Y_i Inv_i^T, written to `out` (Y_i = work_i, the accumulated row entry,
+///   Inv_i = L(i, i)^-1);
+///   work[rows[t]] -= L(k, i) V_t^T for t = 0..count-1 (V_t the B x B blocks at
+///   v + t B^2: L(p, i) for the rows p < k of column i);
+///   diag -= L(k, i) L(k, i)^T.
+/// work_i, work[r] (at work + r paddedRows(B) B) and diag are paddedRows(B) x B; the
+/// padding row is scratch, never read back.
+using EliminateFn = void (*)(const double* work_i, const double* inv_i, double* out,
+                             const double* v, const int* rows, int count, double* work,
+                             double* diag);
+
+/// Whether the AVX2/FMA kernels are used (decided once per process).
+[[nodiscard]] bool useAvx2();
+
+/// The kernel for B = 1, 2 or 3, on the path of solvers::blockKernelPath() (register.h).
+[[nodiscard]] EliminateFn eliminateKernel(int block_size);
+
+}  // namespace graphslam::solvers::detail
