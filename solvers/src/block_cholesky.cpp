@@ -56,15 +56,16 @@ template <int B>
 class BlockCholesky final : public detail::OrderedSolver {
  public:
   using Block = Eigen::Matrix<double, B, B>;
-  using Vec = Eigen::Matrix<double, B, 1>;
   /// Accumulator of a row of L (y in factorizeColumns): B x B, padded to whole vectors
   /// for the kernel (block_kernels.h).
   static constexpr int P = detail::paddedRows(B);
   using Work = Eigen::Matrix<double, P, B>;
-  // The kernel walks both arrays as plain doubles.
-  static_assert(sizeof(Block) == sizeof(double) * B * B && sizeof(Work) == sizeof(double) * P * B);
+  using PVec = Eigen::Matrix<double, P, 1>;  // a block of the solves' vector, padded alike
+  // The kernels walk these arrays as plain doubles.
+  static_assert(sizeof(Block) == sizeof(double) * B * B && sizeof(Work) == sizeof(double) * P * B &&
+                sizeof(PVec) == sizeof(double) * P);
 
-  BlockCholesky() : eliminate_(detail::eliminateKernel(B)) {}
+  BlockCholesky() : eliminate_(detail::eliminateKernel(B)), solve_(detail::solveKernels(B)) {}
 
   std::string name() const override { return "block-llt"; }
 
@@ -301,32 +302,39 @@ class BlockCholesky final : public detail::OrderedSolver {
   }
 
   LinearSolverResult solve(const double* rhs, double* x) override {
-    std::vector<Vec>& y = y_;
+    std::vector<PVec, Eigen::aligned_allocator<PVec>>& y = y_;
     y.resize(static_cast<std::size_t>(nb_));
     for (int k = 0; k < nb_; ++k) {
       const int b = old_[k];
       y[k].setZero();
       y[k].head(dim(b)) = Eigen::Map<const Eigen::VectorXd>(rhs + start_[b], dim(b));
     }
+    // The kernels step through y by P doubles.
+    const auto at = [&](int k) { return y.data()->data() + static_cast<std::ptrdiff_t>(k) * P; };
+    const auto blocks = [&](int e) {
+      return values_.data()->data() + static_cast<std::ptrdiff_t>(e) * B * B;
+    };
     for (int i = 0; i < tail_; ++i) {  // L y = b, by columns
-      y[i] = inverse_[i] * y[i];
-      for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
-        y[col_row_[e]].noalias() -= values_[e] * y[i];
-      }
+      const int e = col_ptr_[i] + 1;
+      solve_.forward(inverse_[i].data(), at(i), blocks(e), col_row_.data() + e, col_ptr_[i + 1] - e,
+                     at(0));
     }
     if (tail_ < nb_) {  // the dense tail, both ways
       Eigen::VectorXd& t = tail_rhs_;
       t.resize(tail_matrix_.rows());
-      for (int k = tail_; k < nb_; ++k) t.segment(tailAt(k), tailDim(k)) = y[k].head(tailDim(k));
+      for (int k = tail_; k < nb_; ++k) {
+        t.segment(tailAt(k), tailDim(k)) = y[k].head(tailDim(k));
+      }
       tail_matrix_.triangularView<Eigen::Lower>().solveInPlace(t);
       tail_matrix_.triangularView<Eigen::Lower>().transpose().solveInPlace(t);
-      for (int k = tail_; k < nb_; ++k) y[k].head(tailDim(k)) = t.segment(tailAt(k), tailDim(k));
+      for (int k = tail_; k < nb_; ++k) {
+        y[k].head(tailDim(k)) = t.segment(tailAt(k), tailDim(k));
+      }
     }
     for (int i = tail_ - 1; i >= 0; --i) {  // L^T x = y
-      for (int e = col_ptr_[i] + 1; e < col_ptr_[i + 1]; ++e) {
-        y[i].noalias() -= values_[e].transpose() * y[col_row_[e]];
-      }
-      y[i] = inverse_[i].transpose() * y[i];
+      const int e = col_ptr_[i] + 1;
+      solve_.backward(inverse_[i].data(), at(i), blocks(e), col_row_.data() + e,
+                      col_ptr_[i + 1] - e, at(0));
     }
     for (int k = 0; k < nb_; ++k) {
       const int b = old_[k];
@@ -426,12 +434,13 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<Block, Eigen::aligned_allocator<Block>> values_;
   std::vector<Work, Eigen::aligned_allocator<Work>> work_;
   std::vector<Block, Eigen::aligned_allocator<Block>> inverse_;  // L(k, k)^{-1}
-  std::vector<Vec> y_;
+  std::vector<PVec, Eigen::aligned_allocator<PVec>> y_;
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
   Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
   Eigen::VectorXd tail_rhs_;
   detail::EliminateFn eliminate_;
+  detail::SolveKernels solve_;
 };
 
 /// Picks the block size at analysis: the largest vertex dimension (1, 2 or 3).

@@ -34,6 +34,34 @@ void eliminatePortable(const double* work_i, const double* inv_i, double* out, c
   Padded(diag).noalias() -= lki * lki.transpose();
 }
 
+template <int B>
+void forwardPortable(const double* inv_i, double* y_i, const double* v, const int* rows, int count,
+                     double* y) {
+  constexpr int P = paddedRows(B);
+  using Block = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+  Eigen::Map<Vec> yi(y_i);
+  yi = Eigen::Map<const Block>(inv_i) * yi;
+  for (int t = 0; t < count; ++t, v += B * B) {
+    Eigen::Map<Vec>(y + static_cast<std::ptrdiff_t>(rows[t]) * P).noalias() -=
+        Eigen::Map<const Block>(v) * yi;
+  }
+}
+
+template <int B>
+void backwardPortable(const double* inv_i, double* y_i, const double* v, const int* rows, int count,
+                      const double* y) {
+  constexpr int P = paddedRows(B);
+  using Block = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+  Eigen::Map<Vec> yi(y_i);
+  for (int t = 0; t < count; ++t, v += B * B) {
+    yi.noalias() -= Eigen::Map<const Block>(v).transpose() *
+                    Eigen::Map<const Vec>(y + static_cast<std::ptrdiff_t>(rows[t]) * P);
+  }
+  yi = Eigen::Map<const Block>(inv_i).transpose() * yi;
+}
+
 #ifdef GRAPHSLAM_HAVE_AVX2_KERNELS
 /// 3 x 3: every column of a block is one 256-bit vector (the fourth lane zero or scratch);
 /// L(k, i)'s columns stay in three registers for the whole run of blocks.
@@ -101,6 +129,87 @@ __attribute__((target("avx2,fma"))) void eliminate2Avx2(const double* work_i, co
     _mm_storeu_pd(w + 2, b);
   }
 }
+
+/// The three lanes of a 3 x 3 block's column (the fourth zero, nothing read past it).
+__attribute__((target("avx2,fma"))) inline __m256d column3(const double* c) {
+  return _mm256_maskload_pd(c, _mm256_setr_epi64x(-1, -1, -1, 0));
+}
+
+/// [sum(a), sum(b), sum(c), 0] of three vectors whose fourth lanes are zero.
+__attribute__((target("avx2,fma"))) inline __m256d sums3(__m256d a, __m256d b, __m256d c) {
+  const __m256d ab = _mm256_hadd_pd(a, b);                    // a01 b01 a23 b23
+  const __m256d c0 = _mm256_hadd_pd(c, _mm256_setzero_pd());  // c01 0 c23 0
+  return _mm256_add_pd(_mm256_permute2f128_pd(ab, c0, 0x20), _mm256_permute2f128_pd(ab, c0, 0x31));
+}
+
+__attribute__((target("avx2,fma"))) void forward3Avx2(const double* inv_i, double* y_i,
+                                                      const double* v, const int* rows, int count,
+                                                      double* y) {
+  __m256d yi = _mm256_mul_pd(column3(inv_i), _mm256_broadcast_sd(y_i));
+  yi = _mm256_fmadd_pd(column3(inv_i + 3), _mm256_broadcast_sd(y_i + 1), yi);
+  yi = _mm256_fmadd_pd(column3(inv_i + 6), _mm256_broadcast_sd(y_i + 2), yi);
+  _mm256_storeu_pd(y_i, yi);
+  const __m256d b0 = _mm256_permute4x64_pd(yi, 0x00);
+  const __m256d b1 = _mm256_permute4x64_pd(yi, 0x55);
+  const __m256d b2 = _mm256_permute4x64_pd(yi, 0xAA);
+  for (int t = 0; t < count; ++t, v += 9) {
+    double* w = y + static_cast<std::ptrdiff_t>(rows[t]) * 4;
+    __m256d a = _mm256_loadu_pd(w);
+    a = _mm256_fnmadd_pd(column3(v), b0, a);
+    a = _mm256_fnmadd_pd(column3(v + 3), b1, a);
+    a = _mm256_fnmadd_pd(column3(v + 6), b2, a);
+    _mm256_storeu_pd(w, a);
+  }
+}
+
+__attribute__((target("avx2,fma"))) void backward3Avx2(const double* inv_i, double* y_i,
+                                                       const double* v, const int* rows, int count,
+                                                       const double* y) {
+  // acc_c = sum_t L(:, c)_t .* y_p: L(:, c)^T y_p is its sum of lanes.
+  __m256d acc0 = _mm256_setzero_pd(), acc1 = acc0, acc2 = acc0;
+  for (int t = 0; t < count; ++t, v += 9) {
+    const __m256d yp = _mm256_loadu_pd(y + static_cast<std::ptrdiff_t>(rows[t]) * 4);
+    acc0 = _mm256_fmadd_pd(column3(v), yp, acc0);
+    acc1 = _mm256_fmadd_pd(column3(v + 3), yp, acc1);
+    acc2 = _mm256_fmadd_pd(column3(v + 6), yp, acc2);
+  }
+  const __m256d z = _mm256_sub_pd(_mm256_loadu_pd(y_i), sums3(acc0, acc1, acc2));
+  // y_i(c) = Inv(:, c)^T z
+  const __m256d x = sums3(_mm256_mul_pd(column3(inv_i), z), _mm256_mul_pd(column3(inv_i + 3), z),
+                          _mm256_mul_pd(column3(inv_i + 6), z));
+  _mm256_storeu_pd(y_i, x);
+}
+
+__attribute__((target("avx2,fma"))) void forward2Avx2(const double* inv_i, double* y_i,
+                                                      const double* v, const int* rows, int count,
+                                                      double* y) {
+  const __m128d yi = _mm_fmadd_pd(_mm_loadu_pd(inv_i + 2), _mm_loaddup_pd(y_i + 1),
+                                  _mm_mul_pd(_mm_loadu_pd(inv_i), _mm_loaddup_pd(y_i)));
+  _mm_storeu_pd(y_i, yi);
+  const __m128d b0 = _mm_unpacklo_pd(yi, yi);
+  const __m128d b1 = _mm_unpackhi_pd(yi, yi);
+  for (int t = 0; t < count; ++t, v += 4) {
+    double* w = y + static_cast<std::ptrdiff_t>(rows[t]) * 2;
+    __m128d a = _mm_loadu_pd(w);
+    a = _mm_fnmadd_pd(_mm_loadu_pd(v), b0, a);
+    a = _mm_fnmadd_pd(_mm_loadu_pd(v + 2), b1, a);
+    _mm_storeu_pd(w, a);
+  }
+}
+
+__attribute__((target("avx2,fma"))) void backward2Avx2(const double* inv_i, double* y_i,
+                                                       const double* v, const int* rows, int count,
+                                                       const double* y) {
+  __m128d acc0 = _mm_setzero_pd(), acc1 = acc0;
+  for (int t = 0; t < count; ++t, v += 4) {
+    const __m128d yp = _mm_loadu_pd(y + static_cast<std::ptrdiff_t>(rows[t]) * 2);
+    acc0 = _mm_fmadd_pd(_mm_loadu_pd(v), yp, acc0);
+    acc1 = _mm_fmadd_pd(_mm_loadu_pd(v + 2), yp, acc1);
+  }
+  const __m128d z = _mm_sub_pd(_mm_loadu_pd(y_i), _mm_hadd_pd(acc0, acc1));
+  _mm_storeu_pd(
+      y_i, _mm_hadd_pd(_mm_mul_pd(_mm_loadu_pd(inv_i), z), _mm_mul_pd(_mm_loadu_pd(inv_i + 2), z)));
+}
 #endif
 
 }  // namespace
@@ -129,6 +238,18 @@ EliminateFn eliminateKernel(int block_size) {
   if (block_size == 3) return eliminatePortable<3>;
   if (block_size == 2) return eliminatePortable<2>;
   return eliminatePortable<1>;
+}
+
+SolveKernels solveKernels(int block_size) {
+#ifdef GRAPHSLAM_HAVE_AVX2_KERNELS
+  if (useAvx2()) {
+    if (block_size == 3) return {forward3Avx2, backward3Avx2};
+    if (block_size == 2) return {forward2Avx2, backward2Avx2};
+  }
+#endif
+  if (block_size == 3) return {forwardPortable<3>, backwardPortable<3>};
+  if (block_size == 2) return {forwardPortable<2>, backwardPortable<2>};
+  return {forwardPortable<1>, backwardPortable<1>};
 }
 
 }  // namespace graphslam::solvers::detail

@@ -23,10 +23,23 @@ using EliminateFn = void (*)(const double* work_i, const double* inv_i, double* 
                              const double* v, const int* rows, int count, double* work,
                              double* diag);
 
+/// Column i of block-llt's triangular solves, B x B blocks (column-major) and vectors
+/// y_k of paddedRows(B) doubles (padding zero), v/rows/count as in EliminateFn (the
+/// blocks L(p, i) below the diagonal of column i):
+///   forward (L y = b):    y_i = Inv_i y_i, then y_p -= L(p, i) y_i;
+///   backward (L^T x = y): y_i -= sum_p L(p, i)^T y_p, then y_i = Inv_i^T y_i.
+struct SolveKernels {
+  void (*forward)(const double* inv_i, double* y_i, const double* v, const int* rows, int count,
+                  double* y);
+  void (*backward)(const double* inv_i, double* y_i, const double* v, const int* rows, int count,
+                   const double* y);
+};
+
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();
 
 /// The kernel for B = 1, 2 or 3, on the path of solvers::blockKernelPath() (register.h).
 [[nodiscard]] EliminateFn eliminateKernel(int block_size);
+[[nodiscard]] SolveKernels solveKernels(int block_size);
 
 }  // namespace graphslam::solvers::detail
