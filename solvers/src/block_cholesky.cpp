@@ -269,7 +269,7 @@ class BlockCholesky final : public detail::OrderedSolver {
         // are the dense factorisation's (below).
         if (i >= tail_) continue;
         // L(k, i) = y_i L(i, i)^{-T}, with the inverse kept from column i's factorisation
-        // (a fixed-size product; Eigen's triangular solve takes its general path here).
+        // (a product: a triangular solve of fixed size is slower), then
         // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i))
         // and the diagonal block's, in one call of the kernel; rows p in the tail go to
         // the dense matrix, which then holds A_TT - L_T,<tail L_T,<tail^T.
