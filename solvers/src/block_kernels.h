@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Private to graphslam::solvers: the innermost loop of block-llt, with an AVX2/FMA version
-// chosen at run time on CPUs that have it (the library itself is built for the portable
-// x86-64 baseline, SSE2, as Debian builds).
+// Private to graphslam::solvers: the innermost loops of block-llt (elimination and
+// triangular solves), with AVX2/FMA versions chosen at run time on CPUs that have them
+// (the library itself is built for the portable x86-64 baseline, SSE2, as Debian builds).
 #pragma once
 
 namespace graphslam::solvers::detail {
