@@ -32,6 +32,10 @@
 namespace graphslam::solvers {
 
 std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
+/// tail_cholesky.cpp (tail-llt); null without BLAS / LAPACK.
+std::unique_ptr<detail::OrderedSolver> makeTailCholesky(std::vector<int> parent,
+                                                        std::vector<int> counts,
+                                                        double max_sparse_flops);
 
 namespace {
 
@@ -41,6 +45,9 @@ namespace {
 /// 1 x 1 blocks, which has no per-supernode overhead, works on B's arrays as they are and
 /// names the column of a failed pivot.
 constexpr double kSupernodalFlops = 2e6;
+/// Up to this many predicted flops, a factor whose last columns are dense may go to
+/// tail-llt: beyond, its analysis (which decides) is not worth trying.
+constexpr double kTailProbeFlops = 1e9;
 /// Off-diagonal entries of a block, and differences between its diagonal entries, must
 /// be below this fraction of its (0, 0) entry.
 constexpr double kRelativeTolerance = 1e-12;
@@ -112,6 +119,22 @@ class IsotropicSolver final : public detail::OrderedSolver {
     const detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
     // A complex multiply-add is four real ones.
     const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
+    std::vector<int> identity(static_cast<std::size_t>(nb_));
+    std::iota(identity.begin(), identity.end(), 0);
+    // A dense tail holding most of the flops (landmarks seen from most poses): tail-llt
+    // forms its Schur complement with BLAS and loops over the cheap columns before it,
+    // without CHOLMOD's supernodal analysis and per-supernode work.
+    if (!conformal_ && cost.flops <= kTailProbeFlops &&
+        nb_ - denseTailStart(counts) >= detail::kBlasTailMinRows) {
+      // tail-llt keeps B's upper triangle as it is; it declines when its tail is not worth
+      // BLAS or the columns before it are not cheap.
+      inner_ = makeTailCholesky(parent, counts, kSupernodalFlops);
+      if (inner_ && inner_->analyzeOrdered(scalar_, identity, label).ok()) {
+        freeEntries();
+        return LinearSolverResult::success();
+      }
+      inner_.reset();
+    }
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     if (conformal_) {
       inner_ = makeCholmodComplexSolver(supernodal, label, true);
@@ -137,12 +160,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       // block-llt's up-looking factorisation needs no postorder: B's upper triangle as it is.
       inner_ = makeBlockCholesky(Ordering::kNatural);
     }
-    std::vector<int> identity(static_cast<std::size_t>(nb_));
-    std::iota(identity.begin(), identity.end(), 0);
-    // The entry lists served only to lay B out (source_ maps B to H from now on).
-    for (auto* v : {&entry_row_, &entry_col_, &entry_pos_, &entry_pos01_}) {
-      std::vector<int>().swap(*v);
-    }
+    freeEntries();
     return inner_->analyzeOrdered(scalar_, std::move(identity), label);
   }
 
@@ -215,6 +233,22 @@ class IsotropicSolver final : public detail::OrderedSolver {
     LinearSolverResult r = inner_->factorize(values_.data());
     if (!r.ok() && r.column >= 0) r.column = block_order_[r.column] * 2;
     return r;
+  }
+
+  /// First of the last columns of L (column counts `counts`, diagonal included) that
+  /// each hold every row below them.
+  static int denseTailStart(const std::vector<int>& counts) {
+    const int n = static_cast<int>(counts.size());
+    int t = n;
+    while (t > 0 && counts[t - 1] == n - t + 1) --t;
+    return t;
+  }
+
+  /// The entry lists served only to lay B out (source_ maps B to H from then on).
+  void freeEntries() {
+    for (auto* v : {&entry_row_, &entry_col_, &entry_pos_, &entry_pos01_}) {
+      std::vector<int>().swap(*v);
+    }
   }
 
   /// Lays H_s out as B = P H_s P^T (P from block_order_), its upper triangle or (`lower`)

@@ -35,6 +35,16 @@ struct BlockSystem {
       int a = pick(rng), c = pick(rng);
       if (a != c) blocks.insert({std::min(a, c), std::max(a, c)});
     }
+    layOut();
+  }
+  /// The pattern of `upper_blocks` (row block <= column block; the diagonal is added).
+  BlockSystem(int num_blocks, int block_size, std::set<std::pair<int, int>> upper_blocks)
+      : nb(num_blocks), bs(block_size), blocks(std::move(upper_blocks)) {
+    for (int b = 0; b < nb; ++b) blocks.insert({b, b});
+    layOut();
+  }
+
+  void layOut() {
     for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
     col_ptr.push_back(0);
     for (int cb = 0; cb < nb; ++cb) {
@@ -773,6 +783,56 @@ TEST(Solvers_Isotropic, SmallSystemsAreSolvedAndNameTheFailingVertex) {
       EXPECT_EQ(r.column, 2 * b) << spec << " " << b;
     }
   }
+}
+
+// Poses in a chain, then landmarks each seen from most poses: in the natural order the
+// landmarks' columns of L are dense. The isotropic solver then factorises the columns
+// before them one by one and the landmarks' Schur complement with BLAS (tail-llt, when
+// BLAS / LAPACK were found at the build); a failed pivot names its vertex either way.
+TEST(Solvers_Isotropic, DenseLandmarkTailsAreSolvedAndNameTheFailingVertex) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(17);
+  const int poses = 200, landmarks = 48;
+  std::set<std::pair<int, int>> upper;
+  std::bernoulli_distribution seen(0.7);
+  for (int p = 0; p < poses; ++p) {
+    if (p + 1 < poses) upper.insert({p, p + 1});
+    for (int l = 0; l < landmarks; ++l) {
+      if (seen(rng)) upper.insert({p, poses + l});
+    }
+  }
+  BlockSystem sys(poses + landmarks, 2, upper);
+  const Eigen::MatrixXd iso = sys.isotropic(sys.randomSpd(rng));
+  const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
+  const Eigen::VectorXd expected = iso.ldlt().solve(rhs);
+  auto solver = registry.create("isotropic:natural");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  const auto values = sys.values(iso);
+  for (int repeat = 0; repeat < 2; ++repeat) {  // the pattern analysed once
+    ASSERT_TRUE(solver->factorize(values.data()).ok());
+    Eigen::VectorXd x(sys.n());
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+    EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10);
+  }
+  // L's non-zeros: the dense tail holds every landmark, and the pose columns.
+  EXPECT_GE(solver->factorNonZeros(), static_cast<std::size_t>(landmarks * (landmarks + 1)));
+  for (const int b : {0, 17, poses - 1, poses, poses + 30, poses + landmarks - 1}) {
+    Eigen::MatrixXd bad = iso;
+    bad.block(2 * b, 2 * b, 2, 2) *= -1.0;
+    const auto bad_values = sys.values(bad);
+    const LinearSolverResult r = solver->factorize(bad_values.data());
+    EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << b;
+    EXPECT_EQ(r.column, 2 * b) << b << ": " << r.message;
+#ifdef GRAPHSLAM_TEST_HAVE_LAPACK
+    EXPECT_NE(r.message.find(b >= poses ? "tail-llt, dense tail" : "tail-llt"), std::string::npos)
+        << b << ": " << r.message;
+#endif
+  }
+  ASSERT_TRUE(solver->factorize(values.data()).ok());  // and it recovers
+  Eigen::VectorXd x(sys.n());
+  ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+  EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
