@@ -25,6 +25,7 @@
 #include "common.h"
 #include "ordering.h"
 #include "symbolic.h"
+#include "tail_cholesky.h"
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
 #include "suitesparse.h"
 #endif
@@ -32,10 +33,6 @@
 namespace graphslam::solvers {
 
 std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
-/// tail_cholesky.cpp (tail-llt); null without BLAS / LAPACK.
-std::unique_ptr<detail::OrderedSolver> makeTailCholesky(std::vector<int> parent,
-                                                        std::vector<int> counts,
-                                                        double max_sparse_flops);
 
 namespace {
 
@@ -45,9 +42,10 @@ namespace {
 /// 1 x 1 blocks, which has no per-supernode overhead, works on B's arrays as they are and
 /// names the column of a failed pivot.
 constexpr double kSupernodalFlops = 2e6;
-/// Up to this many predicted flops, a factor whose last columns are dense may go to
-/// tail-llt: beyond, its analysis (which decides) is not worth trying.
-constexpr double kTailProbeFlops = 1e9;
+/// Up to this many stored entries of H_s, tail-llt's analysis decides whether it
+/// factorises (its row patterns are the symbolic analysis every path needs); beyond,
+/// where a dense tail cannot hold most of the work, it is not tried.
+constexpr std::size_t kTailProbeEntries = std::size_t{1} << 20;
 /// Off-diagonal entries of a block, and differences between its diagonal entries, must
 /// be below this fraction of its (0, 0) entry.
 constexpr double kRelativeTolerance = 1e-12;
@@ -64,6 +62,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
                                     Ordering label) override {
     ordering_ = label;
     inner_.reset();
+#ifdef GRAPHSLAM_HAVE_LAPACK
+    tail_ = nullptr;
+#endif
     nb_ = s.num_blocks;
     d_ = nb_ > 0 ? s.block_starts[1] - s.block_starts[0] : 1;
     for (int b = 0; b < nb_; ++b) {
@@ -75,66 +76,87 @@ class IsotropicSolver final : public detail::OrderedSolver {
             s.block_starts[b]);
       }
     }
-    // Entries of H_s: block (r, c) of H's stored triangle (r <= c, or r >= c for the lower
-    // one) is entry (r, c); its value is H's entry at the block's (0, 0), at the position
-    // of row r*d in column c*d; a conformal block's imaginary part is its (0, 1) entry, at
-    // the same place in the next column.
-    entry_row_.clear();
-    entry_col_.clear();
-    entry_pos_.clear();
-    entry_pos01_.clear();
-    for (int c = 0; c < nb_; ++c) {
-      const int col = c * d_;
-      int stored = 0;
-      for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; ++p) {
-        const int row = s.row_idx[p];
-        if (row % d_ != 0 || (s.lower ? row < col : row > col)) continue;
-        ++stored;
-        entry_row_.push_back(row / d_);
-        entry_col_.push_back(c);
-        entry_pos_.push_back(p);
-        if (conformal_) entry_pos01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
-      }
-      for (int j = 0; j < d_; ++j) {
-        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored * d_) {
-          return LinearSolverResult::failure(
-              LinearSolverStatus::kFailure,
-              "isotropic: column " + std::to_string(col + j) +
-                  " does not store complete blocks (as SparseStructure asks)",
-              col + j);
-        }
-      }
-    }
-    h_ = s;
     // The block order (every d-th scalar column of the block-expanded order). H_s is laid
     // out in that order (B = P H_s P^T), for CHOLMOD postordered by its elimination tree,
     // so that the inner solver factorises B in its natural order and never permutes.
     block_order_.clear();
     block_order_.reserve(static_cast<std::size_t>(nb_));
+    bool identity_order = true;
     for (std::size_t k = 0; k < order.size(); k += static_cast<std::size_t>(d_)) {
+      identity_order = identity_order && order[k] / d_ == static_cast<int>(block_order_.size());
       block_order_.push_back(order[k] / d_);
     }
-    buildPermuted(false);  // B's upper triangle in the given order: its cost and tree
-    std::vector<int> parent, counts;
-    const detail::SymbolicCost cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
-    // A complex multiply-add is four real ones.
-    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
+    // Entries of H_s: block (r, c) of H's stored triangle (r <= c, or r >= c for the lower
+    // one) is entry (r, c); its value is H's entry at the block's (0, 0), at the position
+    // of row r*d in column c*d (every d-th entry of column c*d: blocks are complete); a
+    // conformal block's imaginary part is its (0, 1) entry, at the same place in the next
+    // column. In the identity order from H's upper triangle they already are B's upper
+    // triangle, column by column with rows ascending: laid out directly.
+    const bool direct = identity_order && !conformal_ && !s.lower;
+    for (auto* v : {&entry_row_, &entry_col_, &entry_pos_, &entry_pos01_, &row_idx_, &source_}) {
+      v->clear();
+    }
+    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    for (int c = 0; c < nb_; ++c) {
+      const int col = c * d_;
+      int stored = 0;
+      for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; p += d_) {
+        const int row = s.row_idx[p];
+        if (row % d_ != 0) return incompleteBlocks(col);
+        if (s.lower ? row < col : row > col) continue;
+        ++stored;
+        if (direct) {
+          row_idx_.push_back(row / d_);
+          source_.push_back(p);
+          continue;
+        }
+        entry_row_.push_back(row / d_);
+        entry_col_.push_back(c);
+        entry_pos_.push_back(p);
+        if (conformal_) entry_pos01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
+      }
+      col_ptr_[c + 1] = static_cast<int>(row_idx_.size());
+      for (int j = 0; j < d_; ++j) {
+        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored * d_) {
+          return incompleteBlocks(col + j);
+        }
+      }
+    }
+    h_ = s;
+    if (direct) {
+      setScalar();
+    } else {
+      buildPermuted(false);  // B's upper triangle in the given order: its cost and tree
+    }
     std::vector<int> identity(static_cast<std::size_t>(nb_));
     std::iota(identity.begin(), identity.end(), 0);
+    std::vector<int> parent, counts;
+#ifdef GRAPHSLAM_HAVE_LAPACK
     // A dense tail holding most of the flops (landmarks seen from most poses): tail-llt
     // forms its Schur complement with BLAS and loops over the cheap columns before it,
-    // without CHOLMOD's supernodal analysis and per-supernode work.
-    if (!conformal_ && cost.flops <= kTailProbeFlops &&
-        nb_ - denseTailStart(counts) >= detail::kBlasTailMinRows) {
-      // tail-llt keeps B's upper triangle as it is; it declines when its tail is not worth
-      // BLAS or the columns before it are not cheap.
-      inner_ = makeTailCholesky(parent, counts, kSupernodalFlops);
-      if (inner_ && inner_->analyzeOrdered(scalar_, identity, label).ok()) {
+    // without CHOLMOD's supernodal analysis and per-supernode work. It takes B's upper
+    // triangle as it is, and declines when its tail is not worth BLAS or the columns
+    // before it are not cheap, leaving its elimination tree and column counts.
+    if (!conformal_ && scalar_.nnz() <= kTailProbeEntries) {
+      auto tail = std::make_unique<detail::TailCholesky>(kSupernodalFlops);
+      if (tail->analyzeOrdered(scalar_, identity, label).ok()) {
+        tail_ = tail.get();
+        inner_ = std::move(tail);
         freeEntries();
         return LinearSolverResult::success();
       }
-      inner_.reset();
+      parent = tail->parent();
+      counts = tail->counts();
     }
+#endif
+    detail::SymbolicCost cost;
+    if (static_cast<int>(counts.size()) == nb_) {
+      for (const int c : counts) cost.flops += static_cast<double>(c) * c;
+    } else {
+      cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
+    }
+    // A complex multiply-add is four real ones.
+    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     if (conformal_) {
       inner_ = makeCholmodComplexSolver(supernodal, label, true);
@@ -151,6 +173,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
     if (inner_) {
       // CHOLMOD: the same fill, with each subtree's columns contiguous (its supernodes),
       // and B's lower triangle.
+      if (direct) entriesOfB();  // B is laid out again, postordered
       const std::vector<int> post = detail::postorder(parent, counts);
       std::vector<int> composed(static_cast<std::size_t>(nb_));
       for (int k = 0; k < nb_; ++k) composed[k] = block_order_[post[k]];
@@ -186,7 +209,21 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
+      // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
+#ifdef GRAPHSLAM_HAVE_LAPACK
+    if (tail_) {  // all d components in one pass, in H's interleaved layout permuted
+      b_.resize(static_cast<std::size_t>(nb_) * d_);
+      for (int k = 0; k < nb_; ++k) {
+        for (int j = 0; j < d_; ++j) b_[k * d_ + j] = rhs[block_order_[k] * d_ + j];
+      }
+      const LinearSolverResult r = tail_->solveInterleaved(b_.data(), d_);
+      if (!r.ok()) return r;
+      for (int k = 0; k < nb_; ++k) {
+        for (int j = 0; j < d_; ++j) x[block_order_[k] * d_ + j] = b_[k * d_ + j];
+      }
+      return r;
+    }
+#endif
     const int per = conformal_ ? 2 : 1;  // doubles per unknown of B
     const int solves = conformal_ ? 1 : d_;
     b_.resize(static_cast<std::size_t>(nb_) * per);
@@ -235,13 +272,22 @@ class IsotropicSolver final : public detail::OrderedSolver {
     return r;
   }
 
-  /// First of the last columns of L (column counts `counts`, diagonal included) that
-  /// each hold every row below them.
-  static int denseTailStart(const std::vector<int>& counts) {
-    const int n = static_cast<int>(counts.size());
-    int t = n;
-    while (t > 0 && counts[t - 1] == n - t + 1) --t;
-    return t;
+  /// The entry lists of a B laid out directly in the identity order (its upper triangle).
+  void entriesOfB() {
+    entry_row_ = row_idx_;
+    entry_pos_ = source_;
+    entry_col_.resize(row_idx_.size());
+    for (int c = 0; c < nb_; ++c) {
+      std::fill(entry_col_.begin() + col_ptr_[c], entry_col_.begin() + col_ptr_[c + 1], c);
+    }
+  }
+
+  static LinearSolverResult incompleteBlocks(int column) {
+    return LinearSolverResult::failure(
+        LinearSolverStatus::kFailure,
+        "isotropic: column " + std::to_string(column) +
+            " does not store complete blocks (as SparseStructure asks)",
+        column);
   }
 
   /// The entry lists served only to lay B out (source_ maps B to H from then on).
@@ -296,6 +342,11 @@ class IsotropicSolver final : public detail::OrderedSolver {
                                                         : 1.0;
       }
     }
+    setScalar();
+  }
+
+  /// scalar_ describes B (col_ptr_, row_idx_) as 1 x 1 blocks.
+  void setScalar() {
     block_starts_.resize(static_cast<std::size_t>(nb_) + 1);
     std::iota(block_starts_.begin(), block_starts_.end(), 0);
     scalar_.n = nb_;
@@ -308,6 +359,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
   Ordering ordering_;
   bool conformal_ = false;
   std::unique_ptr<detail::OrderedSolver> inner_;
+#ifdef GRAPHSLAM_HAVE_LAPACK
+  detail::TailCholesky* tail_ = nullptr;  // inner_ when it is tail-llt
+#endif
   int nb_ = 0, d_ = 1;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   // H_s's entries in H's order: block row, block column, positions in H's values.
@@ -323,31 +377,54 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
 namespace detail {
 
-int firstNonIsotropicColumn(const SparseStructure& s, const double* h) {
-  if (s.num_blocks == 0) return -1;
-  const int d = s.block_starts[1] - s.block_starts[0];
+namespace {
+/// firstNonIsotropicColumn for blocks of D x D (D > 0) or of any size d (D = 0): the
+/// loops over a block unrolled when D is fixed.
+template <int D>
+int firstNonIsotropicColumnOf(const SparseStructure& s, const double* h, int d) {
+  if constexpr (D > 0) d = D;
   for (int c = 0; c < s.num_blocks; ++c) {
     const int first = s.block_starts[c];
     if (s.block_starts[c + 1] - first != d) return first;
     // Block k of the column starts at entry k*d of every column of the block column
     // (complete blocks); its (0, 0) entry is v, every entry must be v I.
     const int stored = s.col_ptr[first + 1] - s.col_ptr[first];
+    const double* v0 = h + s.col_ptr[first];
     for (int j = 0; j < d; ++j) {
       const int col = first + j;
       if (s.col_ptr[col + 1] - s.col_ptr[col] != stored) return col;
+      const double* column = h + s.col_ptr[col];
+      const int* rows = s.row_idx + s.col_ptr[col];
       for (int k = 0; k < stored; k += d) {
-        const double v = h[s.col_ptr[first] + k];
-        const int p = s.col_ptr[col] + k;
-        const int row0 = s.row_idx[p];
+        const double v = v0[k];
+        const double tol = kRelativeTolerance * std::abs(v);
+        // The diagonal block stores both triangles; the one not read is skipped.
+        const bool diagonal = rows[k] == first;
         for (int i = 0; i < d; ++i) {
-          if (s.lower ? row0 + i < col : row0 + i > col) continue;  // the triangle not read
+          if (diagonal && (s.lower ? i < j : i > j)) continue;
           const double expected = i == j ? v : 0.0;
-          if (!(std::abs(h[p + i] - expected) <= kRelativeTolerance * std::abs(v))) return col;
+          if (!(std::abs(column[k + i] - expected) <= tol)) return col;
         }
       }
     }
   }
   return -1;
+}
+}  // namespace
+
+int firstNonIsotropicColumn(const SparseStructure& s, const double* h) {
+  if (s.num_blocks == 0) return -1;
+  const int d = s.block_starts[1] - s.block_starts[0];
+  switch (d) {
+    case 1:
+      return firstNonIsotropicColumnOf<1>(s, h, d);
+    case 2:
+      return firstNonIsotropicColumnOf<2>(s, h, d);
+    case 3:
+      return firstNonIsotropicColumnOf<3>(s, h, d);
+    default:
+      return firstNonIsotropicColumnOf<0>(s, h, d);
+  }
 }
 
 int firstNonConformalColumn(const SparseStructure& s, const double* h) {

@@ -1,0 +1,376 @@
+// SPDX-License-Identifier: MIT
+// Private to graphslam::solvers: tail-llt, the scalar Cholesky LL^T whose trailing columns
+// form one dense block; the isotropic solver's
+// factorisation when such a tail holds most of the work. Built with BLAS / LAPACK only.
+//
+// Ordered poses first, the few landmarks seen from most poses fill the factor's last rows:
+// L's last k columns are a dense triangle, and the columns before them are sparse (a pose
+// chain, each column a handful of rows plus its rows in the tail). The columns [0, t) are
+// factorised left-looking, scalar by scalar, their rows in the tail included; the tail's
+// own entries never are. The tail is then a dense Schur complement
+//   C = A_TT - W W^T,  W = L(T, 0:t) (the sparse columns' tail rows, k x m dense),
+// formed by one BLAS rank-k update (dsyrk) and factorised by LAPACK (dpotrf): the
+// products a sparse factorisation makes entry by entry through index arrays run in
+// BLAS's blocked kernels.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common.h"
+#include "symbolic.h"
+
+#ifdef GRAPHSLAM_HAVE_LAPACK
+
+extern "C" {
+// The reference Fortran interface every BLAS / LAPACK exports (Debian's libblas.so.3 and
+// liblapack.so.3; OpenBLAS with the README's set-up).
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const double* alpha, const double* a, const int* lda, double* b,
+            const int* ldb);
+}
+
+namespace graphslam::solvers::detail {
+
+/// Columns of W per rank update: W is formed and applied slice by slice, so that its
+/// memory stays small (and warm) whatever the number of columns before the tail.
+inline constexpr std::size_t kPanelSlice = 128;
+/// Row patterns of L are kept up to this many entries; a larger factor is declined.
+inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 23;
+
+class TailCholesky final : public OrderedSolver {
+ public:
+  /// The analysis fails (and the caller factorises otherwise) unless the factor has a
+  /// dense tail worth BLAS (blasTailPays) and the columns before it take at most
+  /// `max_sparse_flops`.
+  explicit TailCholesky(double max_sparse_flops) : max_sparse_flops_(max_sparse_flops) {}
+
+  std::string name() const override { return "tail-llt"; }
+
+  /// `s`: a scalar matrix's upper triangle (rows sorted, diagonal stored), factorised in
+  /// its own order (the isotropic solver's B); `order` must be the identity.
+  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
+                                    Ordering /*label*/) override {
+    a_ptr_.clear();
+    n_ = s.n;
+    for (int k = 0; k < n_; ++k) {
+      if (order[k] != k) {
+        return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                           "tail-llt: factorises in the given order only");
+      }
+    }
+    if (s.lower) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "tail-llt: needs the upper triangle");
+    }
+    const auto upper = [&](int k, auto&& visit) {
+      for (int p = s.col_ptr[k]; p < s.col_ptr[k + 1] && s.row_idx[p] < k; ++p) {
+        visit(s.row_idx[p]);
+      }
+    };
+    // One walk: the elimination tree, then row k of L (the columns on the tree paths from
+    // A's rows i < k of column k up to k: its row subtree) for every k, stored by rows,
+    // and the column counts.
+    parent_ = eliminationTree(n_, upper);
+    counts_.assign(static_cast<std::size_t>(n_), 1);
+    row_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
+    row_col_.clear();
+    bool stored = true;
+    std::vector<int> flag(static_cast<std::size_t>(n_), -1);
+    for (int k = 0; k < n_; ++k) {
+      flag[k] = k;
+      upper(k, [&](int r) {
+        for (int i = r; flag[i] != k; i = parent_[i]) {
+          flag[i] = k;
+          ++counts_[i];
+          if (stored) row_col_.push_back(i);
+        }
+      });
+      if (stored && row_col_.size() > kMaxRowEntries) {  // too large to be worth it: count on
+        stored = false;
+        std::vector<int>().swap(row_col_);
+      }
+      row_ptr_[k + 1] = static_cast<int>(row_col_.size());
+    }
+    if (!stored) return noTail();
+    // The dense tail: the last columns, each holding every row below it.
+    t_ = n_;
+    while (t_ > 0 && counts_[t_ - 1] == n_ - t_ + 1) --t_;
+    k_ = n_ - t_;
+    if (k_ < kBlasTailMinRows) return noTail();
+    // Columns before the tail: the diagonal, then rows ascending; the row patterns keep
+    // only those columns.
+    col_ptr_.assign(static_cast<std::size_t>(t_) + 1, 0);
+    for (int j = 0; j < t_; ++j) col_ptr_[j + 1] = col_ptr_[j] + counts_[j];
+    col_row_.resize(static_cast<std::size_t>(col_ptr_[t_]));
+    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
+    for (int j = 0; j < t_; ++j) col_row_[next[j]++] = j;
+    int kept = 0;
+    for (int k = 0; k < n_; ++k) {
+      const int first = row_ptr_[k];
+      row_ptr_[k] = kept;
+      for (int q = first; q < row_ptr_[k + 1]; ++q) {
+        const int j = row_col_[q];
+        if (j >= t_) continue;
+        col_row_[next[j]++] = k;
+        row_col_[kept++] = j;
+      }
+    }
+    row_ptr_[n_] = kept;
+    row_col_.resize(static_cast<std::size_t>(kept));
+    // W's columns (those before the tail with rows in it), and the work of the loop.
+    tail_first_.assign(static_cast<std::size_t>(t_), 0);
+    panel_.clear();
+    double pairs = 0.0, sparse = 0.0;
+    for (int j = 0; j < t_; ++j) {
+      int e = col_ptr_[j + 1];
+      while (e > col_ptr_[j] + 1 && col_row_[e - 1] >= t_) --e;
+      tail_first_[j] = e;
+      const double c = counts_[j], r = col_ptr_[j + 1] - e;
+      pairs += r * r;
+      sparse += c * c - r * r;
+      if (r > 0) panel_.push_back(j);
+    }
+    if (!blasTailPays(k_, static_cast<double>(panel_.size()), pairs) ||
+        sparse > max_sparse_flops_) {
+      return noTail();
+    }
+    // A's lower triangle by columns (rows >= j) with the position of every value in the
+    // caller's array: the left-looking loop gathers column j.
+    a_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
+    for (int c = 0; c < n_; ++c) {
+      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) ++a_ptr_[s.row_idx[p] + 1];
+    }
+    for (int j = 0; j < n_; ++j) a_ptr_[j + 1] += a_ptr_[j];
+    a_row_.resize(static_cast<std::size_t>(a_ptr_[n_]));
+    a_src_.resize(a_row_.size());
+    std::vector<int> at(a_ptr_.begin(), a_ptr_.end() - 1);
+    for (int c = 0; c < n_; ++c) {
+      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) {
+        const int r = s.row_idx[p];  // upper (r, c) is lower (c, r): column r
+        a_row_[at[r]] = c;
+        a_src_[at[r]++] = p;
+      }
+    }
+    values_.assign(static_cast<std::size_t>(col_ptr_[t_]), 0.0);
+    work_.assign(static_cast<std::size_t>(n_), 0.0);
+    cursor_.assign(static_cast<std::size_t>(t_), 0);
+    tail_.assign(static_cast<std::size_t>(k_) * k_, 0.0);
+    // Zero between uses.
+    panel_matrix_.assign(static_cast<std::size_t>(k_) * std::min(panel_.size(), kPanelSlice), 0.0);
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult factorize(const double* a) override {
+    if (a_ptr_.empty()) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    }
+    double* x = work_.data();
+    for (int j = 0; j < t_; ++j) cursor_[j] = col_ptr_[j] + 1;
+    for (int j = 0; j < t_; ++j) {
+      for (int p = a_ptr_[j]; p < a_ptr_[j + 1]; ++p) x[a_row_[p]] = a[a_src_[p]];
+      // x -= L(j:n, p) L(j, p) for the columns p < j with L(j, p) != 0; each column's
+      // cursor is at row j (rows are reached in increasing order).
+      for (int q = row_ptr_[j]; q < row_ptr_[j + 1]; ++q) {
+        const int p = row_col_[q];
+        int e = cursor_[p]++;
+        const double ljp = values_[e];
+        for (const int end = col_ptr_[p + 1]; e < end; ++e) x[col_row_[e]] -= values_[e] * ljp;
+      }
+      const double d = x[j];
+      x[j] = 0.0;
+      if (!(d > 0.0)) return notPositive(j);
+      const double ljj = std::sqrt(d);
+      values_[col_ptr_[j]] = ljj;
+      const double inv = 1.0 / ljj;
+      for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
+        values_[e] = x[col_row_[e]] * inv;
+        x[col_row_[e]] = 0.0;
+      }
+    }
+    // The tail: C = A_TT (lower), W = L(T, panel columns), C -= W W^T, C = L_TT L_TT^T.
+    std::fill(tail_.begin(), tail_.end(), 0.0);
+    for (int j = t_; j < n_; ++j) {
+      for (int p = a_ptr_[j]; p < a_ptr_[j + 1]; ++p) {
+        tail_[static_cast<std::size_t>(j - t_) * k_ + (a_row_[p] - t_)] = a[a_src_[p]];
+      }
+    }
+    // W by slices of kPanelSlice columns (one slice's memory, reused).
+    for (std::size_t first = 0; first < panel_.size(); first += kPanelSlice) {
+      const std::size_t last = std::min(panel_.size(), first + kPanelSlice);
+      scatterPanel(first, last, false);
+      const int m = static_cast<int>(last - first);
+      const double minus_one = -1.0, one = 1.0;
+      dsyrk_("L", "N", &k_, &m, &minus_one, panel_matrix_.data(), &k_, &one, tail_.data(), &k_);
+      scatterPanel(first, last, true);
+    }
+    int info = 0;
+    dpotrf_("L", &k_, tail_.data(), &k_, &info);
+    if (info != 0) return notPositive(t_ + info - 1, ", dense tail");
+    return LinearSolverResult::success();
+  }
+
+  LinearSolverResult solve(const double* rhs, double* x) override {
+    if (a_ptr_.empty()) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    }
+    std::copy(rhs, rhs + n_, x);
+    return solveInterleaved(x, 1);
+  }
+
+  /// Solves for `d` right-hand sides at once, in place: y[k * d + c] is entry k of the
+  /// c-th (the layout of H = H_s (x) I_d's unknowns). One pass over L for all of them.
+  LinearSolverResult solveInterleaved(double* y, int d) {
+    if (a_ptr_.empty()) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    }
+    switch (d) {
+      case 1:
+        solveSparse<1>(y, d);
+        break;
+      case 2:
+        solveSparse<2>(y, d);
+        break;
+      case 3:
+        solveSparse<3>(y, d);
+        break;
+      default:
+        solveSparse<0>(y, d);
+    }
+    if (!allFinite(y, n_ * d)) return notFinite();
+    return LinearSolverResult::success();
+  }
+
+  /// The elimination tree and the column counts (diagonal included) of the last analysis,
+  /// also when it declined (unless it failed before computing them: empty then).
+  const std::vector<int>& parent() const { return parent_; }
+  const std::vector<int>& counts() const { return counts_; }
+
+  std::size_t factorNonZeros() const override {
+    return values_.size() + static_cast<std::size_t>(k_) * (k_ + 1) / 2;
+  }
+
+ private:
+  /// L L^T Y = B for the d interleaved columns of y (D: d fixed at compile time, or 0):
+  /// the columns before the tail by sparse substitution, the tail's k x d block by dtrsm.
+  template <int D>
+  void solveSparse(double* y, int d) {
+    if constexpr (D > 0) d = D;
+    // Column j's entries, held in registers (rows of a column differ from j: no alias).
+    constexpr int kHeld = D > 0 ? D : 1;
+    double held[kHeld];
+    if constexpr (D == 0) {
+      solveSparseAnyWidth(y, d);
+      return;
+    }
+    for (int j = 0; j < t_; ++j) {  // L z = b, by columns
+      double* yj = y + static_cast<std::ptrdiff_t>(j) * d;
+      const double inv = 1.0 / values_[col_ptr_[j]];
+      for (int c = 0; c < kHeld; ++c) held[c] = yj[c] *= inv;
+      for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
+        double* yr = y + static_cast<std::ptrdiff_t>(col_row_[e]) * d;
+        const double l = values_[e];
+        for (int c = 0; c < kHeld; ++c) yr[c] -= l * held[c];
+      }
+    }
+    solveTail(y, d);
+    for (int j = t_ - 1; j >= 0; --j) {  // L^T x = z
+      double* yj = y + static_cast<std::ptrdiff_t>(j) * d;
+      for (int c = 0; c < kHeld; ++c) held[c] = yj[c];
+      for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
+        const double* yr = y + static_cast<std::ptrdiff_t>(col_row_[e]) * d;
+        const double l = values_[e];
+        for (int c = 0; c < kHeld; ++c) held[c] -= l * yr[c];
+      }
+      const double inv = 1.0 / values_[col_ptr_[j]];
+      for (int c = 0; c < kHeld; ++c) yj[c] = held[c] * inv;
+    }
+  }
+
+  /// The tail's rows of the d interleaved right-hand sides, made contiguous (k x d), by
+  /// dtrsm both ways.
+  void solveTail(double* y, int d) {
+    // The tail's d columns, contiguous (k x d), both ways.
+    const double* yt = y + static_cast<std::ptrdiff_t>(t_) * d;
+    tail_rhs_.resize(static_cast<std::size_t>(k_) * d);
+    for (int i = 0; i < k_; ++i) {
+      for (int c = 0; c < d; ++c) tail_rhs_[static_cast<std::size_t>(c) * k_ + i] = yt[i * d + c];
+    }
+    const double one = 1.0;
+    dtrsm_("L", "L", "N", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
+    dtrsm_("L", "L", "T", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
+    for (int i = 0; i < k_; ++i) {
+      for (int c = 0; c < d; ++c) {
+        y[static_cast<std::ptrdiff_t>(t_ + i) * d + c] =
+            tail_rhs_[static_cast<std::size_t>(c) * k_ + i];
+      }
+    }
+  }
+
+  /// solveSparse for any d, one right-hand side after the other (strided).
+  void solveSparseAnyWidth(double* y, int d) {
+    for (int c = 0; c < d; ++c) {
+      for (int j = 0; j < t_; ++j) {
+        const double v = y[static_cast<std::ptrdiff_t>(j) * d + c] /= values_[col_ptr_[j]];
+        for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
+          y[static_cast<std::ptrdiff_t>(col_row_[e]) * d + c] -= values_[e] * v;
+        }
+      }
+    }
+    solveTail(y, d);
+    for (int c = 0; c < d; ++c) {
+      for (int j = t_ - 1; j >= 0; --j) {
+        double v = y[static_cast<std::ptrdiff_t>(j) * d + c];
+        for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
+          v -= values_[e] * y[static_cast<std::ptrdiff_t>(col_row_[e]) * d + c];
+        }
+        y[static_cast<std::ptrdiff_t>(j) * d + c] = v / values_[col_ptr_[j]];
+      }
+    }
+  }
+
+  LinearSolverResult noTail() {
+    a_ptr_.clear();
+    return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                       "tail-llt: the factor has no dense tail worth BLAS");
+  }
+
+  static LinearSolverResult notPositive(int column, const char* where = "") {
+    return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                       std::string("non-positive pivot (tail-llt") + where + ")",
+                                       column);
+  }
+
+  /// Writes the tail rows of the panel columns [first, last) into W's slice (its column
+  /// c - first: panel_[c]), or zeros them again.
+  void scatterPanel(std::size_t first, std::size_t last, bool clear) {
+    for (std::size_t c = first; c < last; ++c) {
+      const int j = panel_[c];
+      double* w = panel_matrix_.data() + (c - first) * static_cast<std::size_t>(k_);
+      for (int e = tail_first_[j]; e < col_ptr_[j + 1]; ++e) {
+        w[col_row_[e] - t_] = clear ? 0.0 : values_[e];
+      }
+    }
+  }
+
+  double max_sparse_flops_;
+  std::vector<int> parent_, counts_;
+  int n_ = 0, t_ = 0, k_ = 0;
+  std::vector<int> row_ptr_, row_col_;   // row patterns of L, columns < t_ only
+  std::vector<int> col_ptr_, col_row_;   // columns < t_: diagonal first, rows ascending
+  std::vector<int> tail_first_, panel_;  // first tail row of each column; W's columns
+  std::vector<int> a_ptr_, a_row_, a_src_;
+  std::vector<int> cursor_;
+  std::vector<double> values_, work_, tail_, panel_matrix_, tail_rhs_;
+};
+
+}  // namespace graphslam::solvers::detail
+
+#endif  // GRAPHSLAM_HAVE_LAPACK
