@@ -97,6 +97,10 @@ class IsotropicSolver final : public detail::OrderedSolver {
       v->clear();
     }
     col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    if (direct) {  // at most one entry per stored block of H
+      row_idx_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
+      source_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
+    }
     for (int c = 0; c < nb_; ++c) {
       const int col = c * d_;
       int stored = 0;

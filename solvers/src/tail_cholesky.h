@@ -82,14 +82,17 @@ class TailCholesky final : public OrderedSolver {
     counts_.assign(static_cast<std::size_t>(n_), 1);
     row_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
     row_col_.clear();
+    row_col_.reserve(2 * s.nnz());  // a guess: L has about twice A's entries here
     bool stored = true;
     std::vector<int> flag(static_cast<std::size_t>(n_), -1);
+    int* const count = counts_.data();
+    const int* const parent = parent_.data();
     for (int k = 0; k < n_; ++k) {
       flag[k] = k;
       upper(k, [&](int r) {
-        for (int i = r; flag[i] != k; i = parent_[i]) {
+        for (int i = r; flag[i] != k; i = parent[i]) {
           flag[i] = k;
-          ++counts_[i];
+          ++count[i];
           if (stored) row_col_.push_back(i);
         }
       });
@@ -113,15 +116,19 @@ class TailCholesky final : public OrderedSolver {
     std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
     for (int j = 0; j < t_; ++j) col_row_[next[j]++] = j;
     int kept = 0;
-    for (int k = 0; k < n_; ++k) {
-      const int first = row_ptr_[k];
+    int* const rows = col_row_.data();
+    int* const cols = row_col_.data();
+    int* const slot = next.data();
+    for (int k = 0, first = 0; k < n_; ++k) {
+      const int last = row_ptr_[k + 1];
       row_ptr_[k] = kept;
-      for (int q = first; q < row_ptr_[k + 1]; ++q) {
-        const int j = row_col_[q];
+      for (int q = first; q < last; ++q) {
+        const int j = cols[q];
         if (j >= t_) continue;
-        col_row_[next[j]++] = k;
-        row_col_[kept++] = j;
+        rows[slot[j]++] = k;
+        cols[kept++] = j;
       }
+      first = last;
     }
     row_ptr_[n_] = kept;
     row_col_.resize(static_cast<std::size_t>(kept));
