@@ -40,7 +40,8 @@ namespace {
 /// factorisation takes it (dense fronts: a few dense landmark columns seen from every
 /// pose make the factor's trailing part dense); below, block-llt's up-looking LL^T on
 /// 1 x 1 blocks, which has no per-supernode overhead, works on B's arrays as they are and
-/// names the column of a failed pivot.
+/// names the column of a failed pivot. With BLAS / LAPACK, tail-llt goes first: up to
+/// this many flops in its loop (beside a dense tail's BLAS work).
 constexpr double kSupernodalFlops = 2e6;
 /// Up to this many stored entries of H_s, tail-llt's analysis decides whether it
 /// factorises (its row patterns are the symbolic analysis every path needs); beyond,
@@ -136,11 +137,12 @@ class IsotropicSolver final : public detail::OrderedSolver {
     std::iota(identity.begin(), identity.end(), 0);
     std::vector<int> parent, counts;
 #ifdef GRAPHSLAM_HAVE_LAPACK
-    // A dense tail holding most of the flops (landmarks seen from most poses): tail-llt
-    // forms its Schur complement with BLAS and loops over the cheap columns before it,
-    // without CHOLMOD's supernodal analysis and per-supernode work. It takes B's upper
-    // triangle as it is, and declines when its tail is not worth BLAS or the columns
-    // before it are not cheap, leaving its elimination tree and column counts.
+    // tail-llt: a dense tail holding most of the flops (landmarks seen from most poses)
+    // gets its Schur complement from BLAS, the cheap columns before it (or all columns of
+    // a small system) a left-looking loop, without CHOLMOD's supernodal analysis and
+    // per-supernode work. It takes B's upper triangle as it is, and declines when its
+    // loop would cost more than kSupernodalFlops, leaving its elimination tree and
+    // column counts.
     if (!conformal_ && scalar_.nnz() <= kTailProbeEntries) {
       auto tail = std::make_unique<detail::TailCholesky>(kSupernodalFlops);
       if (tail->analyzeOrdered(scalar_, identity, label).ok()) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Private to graphslam::solvers: tail-llt, the scalar Cholesky LL^T whose trailing columns
-// form one dense block; the isotropic solver's
-// factorisation when such a tail holds most of the work. Built with BLAS / LAPACK only.
+// Private to graphslam::solvers: tail-llt, the isotropic solver's scalar Cholesky LL^T
+// for systems whose factor is cheap apart from a dense trailing block, which BLAS takes.
+// Built with BLAS / LAPACK only.
 //
 // Ordered poses first, the few landmarks seen from most poses fill the factor's last rows:
 // L's last k columns are a dense triangle, and the columns before them are sparse (a pose
@@ -11,7 +11,8 @@
 //   C = A_TT - W W^T,  W = L(T, 0:t) (the sparse columns' tail rows, k x m dense),
 // formed by one BLAS rank-k update (dsyrk) and factorised by LAPACK (dpotrf): the
 // products a sparse factorisation makes entry by entry through index arrays run in
-// BLAS's blocked kernels.
+// BLAS's blocked kernels. Without a tail worth BLAS (blasTailPays) every column goes
+// through the loop: a plain left-looking scalar Cholesky, for small systems.
 #pragma once
 
 #include <algorithm>
@@ -47,8 +48,8 @@ inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 23;
 
 class TailCholesky final : public OrderedSolver {
  public:
-  /// The analysis fails (and the caller factorises otherwise) unless the factor has a
-  /// dense tail worth BLAS (blasTailPays) and the columns before it take at most
+  /// The analysis fails (and the caller factorises otherwise) when the columns its loop
+  /// factorises (those before a dense tail worth BLAS, else all) take more than
   /// `max_sparse_flops`.
   explicit TailCholesky(double max_sparse_flops) : max_sparse_flops_(max_sparse_flops) {}
 
@@ -103,11 +104,35 @@ class TailCholesky final : public OrderedSolver {
       row_ptr_[k + 1] = static_cast<int>(row_col_.size());
     }
     if (!stored) return noTail();
-    // The dense tail: the last columns, each holding every row below it.
+    // The dense tail: the last columns, each holding every row below it, when BLAS pays
+    // for it (the rows in it of the columns before it, from the tail's row patterns);
+    // else none, every column by the loop.
     t_ = n_;
     while (t_ > 0 && counts_[t_ - 1] == n_ - t_ + 1) --t_;
     k_ = n_ - t_;
-    if (k_ < kBlasTailMinRows) return noTail();
+    double sparse = 0.0;
+    if (k_ >= kBlasTailMinRows) {
+      std::vector<int> in_tail(static_cast<std::size_t>(t_), 0);
+      for (int q = row_ptr_[t_]; q < row_ptr_[n_]; ++q) {
+        if (row_col_[q] < t_) ++in_tail[row_col_[q]];
+      }
+      double pairs = 0.0, panel_columns = 0.0;
+      for (int j = 0; j < t_; ++j) {
+        const double c = counts_[j], r = in_tail[j];
+        pairs += r * r;
+        sparse += c * c - r * r;
+        panel_columns += r > 0 ? 1.0 : 0.0;
+      }
+      if (!blasTailPays(k_, panel_columns, pairs)) k_ = 0;
+    } else {
+      k_ = 0;
+    }
+    if (k_ == 0) {
+      t_ = n_;
+      sparse = 0.0;
+      for (const int c : counts_) sparse += static_cast<double>(c) * c;
+    }
+    if (sparse > max_sparse_flops_) return noTail();
     // Columns before the tail: the diagonal, then rows ascending; the row patterns keep
     // only those columns.
     col_ptr_.assign(static_cast<std::size_t>(t_) + 1, 0);
@@ -132,22 +157,14 @@ class TailCholesky final : public OrderedSolver {
     }
     row_ptr_[n_] = kept;
     row_col_.resize(static_cast<std::size_t>(kept));
-    // W's columns (those before the tail with rows in it), and the work of the loop.
+    // W's columns (those before the tail with rows in it).
     tail_first_.assign(static_cast<std::size_t>(t_), 0);
     panel_.clear();
-    double pairs = 0.0, sparse = 0.0;
-    for (int j = 0; j < t_; ++j) {
+    for (int j = 0; k_ > 0 && j < t_; ++j) {
       int e = col_ptr_[j + 1];
       while (e > col_ptr_[j] + 1 && col_row_[e - 1] >= t_) --e;
       tail_first_[j] = e;
-      const double c = counts_[j], r = col_ptr_[j + 1] - e;
-      pairs += r * r;
-      sparse += c * c - r * r;
-      if (r > 0) panel_.push_back(j);
-    }
-    if (!blasTailPays(k_, static_cast<double>(panel_.size()), pairs) ||
-        sparse > max_sparse_flops_) {
-      return noTail();
+      if (e < col_ptr_[j + 1]) panel_.push_back(j);
     }
     // A's lower triangle by columns (rows >= j) with the position of every value in the
     // caller's array: the left-looking loop gathers column j.
@@ -202,6 +219,7 @@ class TailCholesky final : public OrderedSolver {
         x[col_row_[e]] = 0.0;
       }
     }
+    if (k_ == 0) return LinearSolverResult::success();
     // The tail: C = A_TT (lower), W = L(T, panel columns), C -= W W^T, C = L_TT L_TT^T.
     std::fill(tail_.begin(), tail_.end(), 0.0);
     for (int j = t_; j < n_; ++j) {
@@ -304,6 +322,7 @@ class TailCholesky final : public OrderedSolver {
   /// The tail's rows of the d interleaved right-hand sides, made contiguous (k x d), by
   /// dtrsm both ways.
   void solveTail(double* y, int d) {
+    if (k_ == 0) return;
     // The tail's d columns, contiguous (k x d), both ways.
     const double* yt = y + static_cast<std::ptrdiff_t>(t_) * d;
     tail_rhs_.resize(static_cast<std::size_t>(k_) * d);
@@ -346,7 +365,7 @@ class TailCholesky final : public OrderedSolver {
   LinearSolverResult noTail() {
     a_ptr_.clear();
     return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                       "tail-llt: the factor has no dense tail worth BLAS");
+                                       "tail-llt: the factor is too costly for its loop");
   }
 
   static LinearSolverResult notPositive(int column, const char* where = "") {

@@ -758,7 +758,8 @@ TEST(Solvers_Isotropic, RejectsSystemsThatAreNotAMultipleOfTheIdentityPerBlock) 
 }
 
 TEST(Solvers_Isotropic, SmallSystemsAreSolvedAndNameTheFailingVertex) {
-  // Below the supernodal threshold the scalar matrix goes to block-llt's 1 x 1 blocks.
+  // Below the supernodal threshold the scalar matrix goes to tail-llt's loop (with BLAS /
+  // LAPACK; no dense tail here) or block-llt's 1 x 1 blocks.
   SolverRegistry registry;
   solvers::registerSolvers(registry);
   std::mt19937 rng(43);
