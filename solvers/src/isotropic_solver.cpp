@@ -102,30 +102,26 @@ class IsotropicSolver final : public detail::OrderedSolver {
       row_idx_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
       source_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
     }
-    for (int c = 0; c < nb_; ++c) {
-      const int col = c * d_;
-      int stored = 0;
-      for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; p += d_) {
-        const int row = s.row_idx[p];
-        if (row % d_ != 0) return incompleteBlocks(col);
-        if (s.lower ? row < col : row > col) continue;
-        ++stored;
-        if (direct) {
-          row_idx_.push_back(row / d_);
-          source_.push_back(p);
-          continue;
-        }
-        entry_row_.push_back(row / d_);
-        entry_col_.push_back(c);
-        entry_pos_.push_back(p);
-        if (conformal_) entry_pos01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
-      }
-      col_ptr_[c + 1] = static_cast<int>(row_idx_.size());
-      for (int j = 0; j < d_; ++j) {
-        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored * d_) {
-          return incompleteBlocks(col + j);
-        }
-      }
+    int incomplete = -1;
+    switch (d_) {  // a fixed block size divides by shifts and multiplications
+      case 1:
+        incomplete = readEntries<1>(s, direct);
+        break;
+      case 2:
+        incomplete = readEntries<2>(s, direct);
+        break;
+      case 3:
+        incomplete = readEntries<3>(s, direct);
+        break;
+      default:
+        incomplete = readEntries<0>(s, direct);
+    }
+    if (incomplete >= 0) {
+      return LinearSolverResult::failure(
+          LinearSolverStatus::kFailure,
+          "isotropic: column " + std::to_string(incomplete) +
+              " does not store complete blocks (as SparseStructure asks)",
+          incomplete);
     }
     h_ = s;
     if (direct) {
@@ -288,12 +284,37 @@ class IsotropicSolver final : public detail::OrderedSolver {
     }
   }
 
-  static LinearSolverResult incompleteBlocks(int column) {
-    return LinearSolverResult::failure(
-        LinearSolverStatus::kFailure,
-        "isotropic: column " + std::to_string(column) +
-            " does not store complete blocks (as SparseStructure asks)",
-        column);
+  /// Reads H_s's entries out of H (blocks of D x D; D = 0: d_): into B's arrays
+  /// (`direct`) or the entry lists. The first column of H that does not store complete
+  /// blocks, or -1.
+  template <int D>
+  int readEntries(const SparseStructure& s, bool direct) {
+    const int d = D > 0 ? D : d_;
+    for (int c = 0; c < nb_; ++c) {
+      const int col = c * d;
+      int stored = 0;
+      for (int p = s.col_ptr[col]; p < s.col_ptr[col + 1]; p += d) {
+        const int row = s.row_idx[p];
+        const int block = row / d;
+        if (row != block * d) return col;
+        if (s.lower ? row < col : row > col) continue;
+        ++stored;
+        if (direct) {
+          row_idx_.push_back(block);
+          source_.push_back(p);
+          continue;
+        }
+        entry_row_.push_back(block);
+        entry_col_.push_back(c);
+        entry_pos_.push_back(p);
+        if (conformal_) entry_pos01_.push_back(s.col_ptr[col + 1] + (p - s.col_ptr[col]));
+      }
+      col_ptr_[c + 1] = static_cast<int>(row_idx_.size());
+      for (int j = 0; j < d; ++j) {
+        if (s.col_ptr[col + j + 1] - s.col_ptr[col + j] != stored * d) return col + j;
+      }
+    }
+    return -1;
   }
 
   /// The entry lists served only to lay B out (source_ maps B to H from then on).
