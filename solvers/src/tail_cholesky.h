@@ -43,8 +43,9 @@ namespace graphslam::solvers::detail {
 /// Columns of W per rank update: W is formed and applied slice by slice, so that its
 /// memory stays small (and warm) whatever the number of columns before the tail.
 inline constexpr std::size_t kPanelSlice = 128;
-/// Row patterns of L are kept up to this many entries; a larger factor is declined.
-inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 23;
+/// Row patterns of L are kept up to this many entries (8 MiB); a larger factor is declined
+/// (its loop alone would cost far more than the isotropic solver allows it).
+inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 21;
 
 class TailCholesky final : public OrderedSolver {
  public:
