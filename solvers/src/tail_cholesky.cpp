@@ -8,8 +8,9 @@ bool blasTailPays(double tail_rows, double panel_columns, double pair_flops) {
 #ifdef GRAPHSLAM_HAVE_LAPACK
   // dsyrk makes tail_rows^2 * panel_columns / 2 multiply-adds where a sparse loop makes
   // pair_flops / 2, each several times slower than BLAS's; the dense tail stays below
-  // 128 MiB.
+  // 128 MiB, W (tail_rows x panel_columns) below 64 MiB.
   return tail_rows >= kBlasTailMinRows && tail_rows <= 4096.0 &&
+         tail_rows * panel_columns <= 8.0 * 1024 * 1024 &&
          tail_rows * tail_rows * panel_columns <= 4.0 * pair_flops;
 #else
   static_cast<void>(tail_rows);

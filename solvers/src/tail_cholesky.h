@@ -40,9 +40,6 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 
 namespace graphslam::solvers::detail {
 
-/// Columns of W per rank update: W is formed and applied slice by slice, so that its
-/// memory stays small (and warm) whatever the number of columns before the tail.
-inline constexpr std::size_t kPanelSlice = 128;
 /// Row patterns of L are kept up to this many entries (8 MiB); a larger factor is declined
 /// (its loop alone would cost far more than the isotropic solver allows it).
 inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 21;
@@ -112,8 +109,8 @@ class TailCholesky final : public OrderedSolver {
     while (t_ > 0 && counts_[t_ - 1] == n_ - t_ + 1) --t_;
     k_ = n_ - t_;
     double sparse = 0.0;
+    std::vector<int> in_tail(static_cast<std::size_t>(t_), 0);
     if (k_ >= kBlasTailMinRows) {
-      std::vector<int> in_tail(static_cast<std::size_t>(t_), 0);
       for (int q = row_ptr_[t_]; q < row_ptr_[n_]; ++q) {
         if (row_col_[q] < t_) ++in_tail[row_col_[q]];
       }
@@ -130,43 +127,34 @@ class TailCholesky final : public OrderedSolver {
     }
     if (k_ == 0) {
       t_ = n_;
+      in_tail.assign(static_cast<std::size_t>(n_), 0);
       sparse = 0.0;
       for (const int c : counts_) sparse += static_cast<double>(c) * c;
     }
     if (sparse > max_sparse_flops_) return noTail();
-    // Columns before the tail: the diagonal, then rows ascending; the row patterns keep
-    // only those columns.
+    // Columns before the tail: the diagonal, then their rows before the tail, ascending;
+    // their rows in the tail are a dense column of W (k rows, zeros included) for every
+    // column that has any. Only the rows before the tail keep their patterns (the loop's).
     col_ptr_.assign(static_cast<std::size_t>(t_) + 1, 0);
-    for (int j = 0; j < t_; ++j) col_ptr_[j + 1] = col_ptr_[j] + counts_[j];
+    panel_pos_.assign(static_cast<std::size_t>(t_), -1);
+    m_ = 0;
+    tail_entries_ = 0;
+    for (int j = 0; j < t_; ++j) {
+      col_ptr_[j + 1] = col_ptr_[j] + counts_[j] - in_tail[j];
+      if (in_tail[j] > 0) panel_pos_[j] = m_++;
+      tail_entries_ += static_cast<std::size_t>(in_tail[j]);
+    }
     col_row_.resize(static_cast<std::size_t>(col_ptr_[t_]));
     std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
     for (int j = 0; j < t_; ++j) col_row_[next[j]++] = j;
-    int kept = 0;
     int* const rows = col_row_.data();
     int* const cols = row_col_.data();
     int* const slot = next.data();
-    for (int k = 0, first = 0; k < n_; ++k) {
-      const int last = row_ptr_[k + 1];
-      row_ptr_[k] = kept;
-      for (int q = first; q < last; ++q) {
-        const int j = cols[q];
-        if (j >= t_) continue;
-        rows[slot[j]++] = k;
-        cols[kept++] = j;
-      }
-      first = last;
+    for (int k = 0; k < t_; ++k) {  // row k's columns are all before it: kept in place
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) rows[slot[cols[q]]++] = k;
     }
-    row_ptr_[n_] = kept;
-    row_col_.resize(static_cast<std::size_t>(kept));
-    // W's columns (those before the tail with rows in it).
-    tail_first_.assign(static_cast<std::size_t>(t_), 0);
-    panel_.clear();
-    for (int j = 0; k_ > 0 && j < t_; ++j) {
-      int e = col_ptr_[j + 1];
-      while (e > col_ptr_[j] + 1 && col_row_[e - 1] >= t_) --e;
-      tail_first_[j] = e;
-      if (e < col_ptr_[j + 1]) panel_.push_back(j);
-    }
+    for (int k = t_; k < n_; ++k) row_ptr_[k + 1] = row_ptr_[t_];
+    row_col_.resize(static_cast<std::size_t>(row_ptr_[t_]));
     // A's lower triangle by columns (rows >= j) with the position of every value in the
     // caller's array: the left-looking loop gathers column j.
     a_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
@@ -188,8 +176,7 @@ class TailCholesky final : public OrderedSolver {
     work_.assign(static_cast<std::size_t>(n_), 0.0);
     cursor_.assign(static_cast<std::size_t>(t_), 0);
     tail_.assign(static_cast<std::size_t>(k_) * k_, 0.0);
-    // Zero between uses.
-    panel_matrix_.assign(static_cast<std::size_t>(k_) * std::min(panel_.size(), kPanelSlice), 0.0);
+    panel_matrix_.assign(static_cast<std::size_t>(k_) * m_, 0.0);
     return LinearSolverResult::success();
   }
 
@@ -200,14 +187,27 @@ class TailCholesky final : public OrderedSolver {
     double* x = work_.data();
     for (int j = 0; j < t_; ++j) cursor_[j] = col_ptr_[j] + 1;
     for (int j = 0; j < t_; ++j) {
-      for (int p = a_ptr_[j]; p < a_ptr_[j + 1]; ++p) x[a_row_[p]] = a[a_src_[p]];
-      // x -= L(j:n, p) L(j, p) for the columns p < j with L(j, p) != 0; each column's
-      // cursor is at row j (rows are reached in increasing order).
+      // Column j: its rows before the tail in x, those in the tail in W's column w.
+      double* const w = panelColumn(j);
+      if (w) std::fill(w, w + k_, 0.0);
+      for (int p = a_ptr_[j]; p < a_ptr_[j + 1]; ++p) {
+        const int r = a_row_[p];
+        if (r < t_) {
+          x[r] = a[a_src_[p]];
+        } else {
+          w[r - t_] = a[a_src_[p]];  // a row in the tail: column j has a W column
+        }
+      }
+      // Column j -= L(j:n, p) L(j, p) for the columns p < j with L(j, p) != 0; each
+      // column's cursor is at row j (rows are reached in increasing order).
       for (int q = row_ptr_[j]; q < row_ptr_[j + 1]; ++q) {
         const int p = row_col_[q];
         int e = cursor_[p]++;
         const double ljp = values_[e];
         for (const int end = col_ptr_[p + 1]; e < end; ++e) x[col_row_[e]] -= values_[e] * ljp;
+        if (const double* wp = panelColumn(p)) {
+          for (int i = 0; i < k_; ++i) w[i] -= wp[i] * ljp;
+        }
       }
       const double d = x[j];
       x[j] = 0.0;
@@ -219,24 +219,20 @@ class TailCholesky final : public OrderedSolver {
         values_[e] = x[col_row_[e]] * inv;
         x[col_row_[e]] = 0.0;
       }
+      if (w) {
+        for (int i = 0; i < k_; ++i) w[i] *= inv;
+      }
     }
     if (k_ == 0) return LinearSolverResult::success();
-    // The tail: C = A_TT (lower), W = L(T, panel columns), C -= W W^T, C = L_TT L_TT^T.
+    // The tail: C = A_TT (lower), C -= W W^T, C = L_TT L_TT^T.
     std::fill(tail_.begin(), tail_.end(), 0.0);
     for (int j = t_; j < n_; ++j) {
       for (int p = a_ptr_[j]; p < a_ptr_[j + 1]; ++p) {
         tail_[static_cast<std::size_t>(j - t_) * k_ + (a_row_[p] - t_)] = a[a_src_[p]];
       }
     }
-    // W by slices of kPanelSlice columns (one slice's memory, reused).
-    for (std::size_t first = 0; first < panel_.size(); first += kPanelSlice) {
-      const std::size_t last = std::min(panel_.size(), first + kPanelSlice);
-      scatterPanel(first, last, false);
-      const int m = static_cast<int>(last - first);
-      const double minus_one = -1.0, one = 1.0;
-      dsyrk_("L", "N", &k_, &m, &minus_one, panel_matrix_.data(), &k_, &one, tail_.data(), &k_);
-      scatterPanel(first, last, true);
-    }
+    const double minus_one = -1.0, one = 1.0;
+    dsyrk_("L", "N", &k_, &m_, &minus_one, panel_matrix_.data(), &k_, &one, tail_.data(), &k_);
     int info = 0;
     dpotrf_("L", &k_, tail_.data(), &k_, &info);
     if (info != 0) return notPositive(t_ + info - 1, ", dense tail");
@@ -280,7 +276,7 @@ class TailCholesky final : public OrderedSolver {
   const std::vector<int>& counts() const { return counts_; }
 
   std::size_t factorNonZeros() const override {
-    return values_.size() + static_cast<std::size_t>(k_) * (k_ + 1) / 2;
+    return values_.size() + tail_entries_ + static_cast<std::size_t>(k_) * (k_ + 1) / 2;
   }
 
  private:
@@ -296,7 +292,8 @@ class TailCholesky final : public OrderedSolver {
       solveSparseAnyWidth(y, d);
       return;
     }
-    for (int j = 0; j < t_; ++j) {  // L z = b, by columns
+    double* const yt = y + static_cast<std::ptrdiff_t>(t_) * d;  // the tail's rows
+    for (int j = 0; j < t_; ++j) {                               // L z = b, by columns
       double* yj = y + static_cast<std::ptrdiff_t>(j) * d;
       const double inv = 1.0 / values_[col_ptr_[j]];
       for (int c = 0; c < kHeld; ++c) held[c] = yj[c] *= inv;
@@ -304,6 +301,11 @@ class TailCholesky final : public OrderedSolver {
         double* yr = y + static_cast<std::ptrdiff_t>(col_row_[e]) * d;
         const double l = values_[e];
         for (int c = 0; c < kHeld; ++c) yr[c] -= l * held[c];
+      }
+      if (const double* w = panelColumn(j)) {
+        for (int i = 0; i < k_; ++i) {
+          for (int c = 0; c < kHeld; ++c) yt[i * kHeld + c] -= w[i] * held[c];
+        }
       }
     }
     solveTail(y, d);
@@ -314,6 +316,11 @@ class TailCholesky final : public OrderedSolver {
         const double* yr = y + static_cast<std::ptrdiff_t>(col_row_[e]) * d;
         const double l = values_[e];
         for (int c = 0; c < kHeld; ++c) held[c] -= l * yr[c];
+      }
+      if (const double* w = panelColumn(j)) {
+        for (int i = 0; i < k_; ++i) {
+          for (int c = 0; c < kHeld; ++c) held[c] -= w[i] * yt[i * kHeld + c];
+        }
       }
       const double inv = 1.0 / values_[col_ptr_[j]];
       for (int c = 0; c < kHeld; ++c) yj[c] = held[c] * inv;
@@ -343,22 +350,29 @@ class TailCholesky final : public OrderedSolver {
 
   /// solveSparse for any d, one right-hand side after the other (strided).
   void solveSparseAnyWidth(double* y, int d) {
+    const auto at = [d](int row, int c) { return static_cast<std::ptrdiff_t>(row) * d + c; };
     for (int c = 0; c < d; ++c) {
       for (int j = 0; j < t_; ++j) {
-        const double v = y[static_cast<std::ptrdiff_t>(j) * d + c] /= values_[col_ptr_[j]];
+        const double v = y[at(j, c)] /= values_[col_ptr_[j]];
         for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
-          y[static_cast<std::ptrdiff_t>(col_row_[e]) * d + c] -= values_[e] * v;
+          y[at(col_row_[e], c)] -= values_[e] * v;
+        }
+        if (const double* w = panelColumn(j)) {
+          for (int i = 0; i < k_; ++i) y[at(t_ + i, c)] -= w[i] * v;
         }
       }
     }
     solveTail(y, d);
     for (int c = 0; c < d; ++c) {
       for (int j = t_ - 1; j >= 0; --j) {
-        double v = y[static_cast<std::ptrdiff_t>(j) * d + c];
+        double v = y[at(j, c)];
         for (int e = col_ptr_[j] + 1; e < col_ptr_[j + 1]; ++e) {
-          v -= values_[e] * y[static_cast<std::ptrdiff_t>(col_row_[e]) * d + c];
+          v -= values_[e] * y[at(col_row_[e], c)];
         }
-        y[static_cast<std::ptrdiff_t>(j) * d + c] = v / values_[col_ptr_[j]];
+        if (const double* w = panelColumn(j)) {
+          for (int i = 0; i < k_; ++i) v -= w[i] * y[at(t_ + i, c)];
+        }
+        y[at(j, c)] = v / values_[col_ptr_[j]];
       }
     }
   }
@@ -375,24 +389,21 @@ class TailCholesky final : public OrderedSolver {
                                        column);
   }
 
-  /// Writes the tail rows of the panel columns [first, last) into W's slice (its column
-  /// c - first: panel_[c]), or zeros them again.
-  void scatterPanel(std::size_t first, std::size_t last, bool clear) {
-    for (std::size_t c = first; c < last; ++c) {
-      const int j = panel_[c];
-      double* w = panel_matrix_.data() + (c - first) * static_cast<std::size_t>(k_);
-      for (int e = tail_first_[j]; e < col_ptr_[j + 1]; ++e) {
-        w[col_row_[e] - t_] = clear ? 0.0 : values_[e];
-      }
-    }
+  /// Column j's rows in the tail (W's column), or null when it has none.
+  double* panelColumn(int j) {
+    return panel_pos_[j] < 0
+               ? nullptr
+               : panel_matrix_.data() + static_cast<std::ptrdiff_t>(panel_pos_[j]) * k_;
   }
 
   double max_sparse_flops_;
   std::vector<int> parent_, counts_;
   int n_ = 0, t_ = 0, k_ = 0;
-  std::vector<int> row_ptr_, row_col_;   // row patterns of L, columns < t_ only
-  std::vector<int> col_ptr_, col_row_;   // columns < t_: diagonal first, rows ascending
-  std::vector<int> tail_first_, panel_;  // first tail row of each column; W's columns
+  std::vector<int> row_ptr_, row_col_;  // row patterns of L's rows before the tail
+  std::vector<int> col_ptr_, col_row_;  // columns < t_: diagonal, then rows < t_ ascending
+  std::vector<int> panel_pos_;          // W's column of each column before the tail, or -1
+  int m_ = 0;                           // W's columns
+  std::size_t tail_entries_ = 0;        // L's non-zeros in W
   std::vector<int> a_ptr_, a_row_, a_src_;
   std::vector<int> cursor_;
   std::vector<double> values_, work_, tail_, panel_matrix_, tail_rhs_;
