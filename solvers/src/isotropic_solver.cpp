@@ -413,6 +413,27 @@ int firstNonIsotropicColumnOf(const SparseStructure& s, const double* h, int d) 
   for (int c = 0; c < s.num_blocks; ++c) {
     const int first = s.block_starts[c];
     if (s.block_starts[c + 1] - first != d) return first;
+    if constexpr (D == 2) {
+      // Both columns of the block column at once, without a branch per entry; the
+      // entry-by-entry pass below names the column only when a block fails.
+      const int stored = s.col_ptr[first + 1] - s.col_ptr[first];
+      if (s.col_ptr[first + 2] - s.col_ptr[first + 1] != stored) return first + 1;
+      const double* c0 = h + s.col_ptr[first];
+      const double* c1 = h + s.col_ptr[first + 1];
+      const int* rows = s.row_idx + s.col_ptr[first];
+      bool ok = true;
+      for (int k = 0; k < stored; k += 2) {
+        const double v = c0[k];
+        const double tol = kRelativeTolerance * std::abs(v);
+        // The diagonal block stores both triangles: (1, 0) is not read from the upper
+        // one, (0, 1) not from the lower one.
+        const bool diagonal = rows[k] == first;
+        const bool lower10 = (diagonal && !s.lower) || std::abs(c0[k + 1]) <= tol;
+        const bool upper01 = (diagonal && s.lower) || std::abs(c1[k]) <= tol;
+        ok = ok & lower10 & upper01 & (std::abs(c1[k + 1] - v) <= tol);
+      }
+      if (ok) continue;
+    }
     // Block k of the column starts at entry k*d of every column of the block column
     // (complete blocks); its (0, 0) entry is v, every entry must be v I.
     const int stored = s.col_ptr[first + 1] - s.col_ptr[first];
