@@ -6,11 +6,28 @@
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
 
 namespace graphslam::solvers::detail {
+
+/// f(std::integral_constant<int, D>{}) with D = d for block sizes 1, 2 and 3 (loops over a
+/// block unrolled), D = 0 for any other d (the callee reads d at run time).
+template <typename F>
+decltype(auto) withFixedSize(int d, F&& f) {
+  switch (d) {
+    case 1:
+      return f(std::integral_constant<int, 1>{});
+    case 2:
+      return f(std::integral_constant<int, 2>{});
+    case 3:
+      return f(std::integral_constant<int, 3>{});
+    default:
+      return f(std::integral_constant<int, 0>{});
+  }
+}
 
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 

@@ -102,20 +102,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
       row_idx_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
       source_.reserve(s.nnz() / static_cast<std::size_t>(d_ * d_));
     }
-    int incomplete = -1;
-    switch (d_) {  // a fixed block size divides by shifts and multiplications
-      case 1:
-        incomplete = readEntries<1>(s, direct);
-        break;
-      case 2:
-        incomplete = readEntries<2>(s, direct);
-        break;
-      case 3:
-        incomplete = readEntries<3>(s, direct);
-        break;
-      default:
-        incomplete = readEntries<0>(s, direct);
-    }
+    // A fixed block size divides by shifts and multiplications.
+    const int incomplete = detail::withFixedSize(
+        d_, [&](auto size) { return readEntries<decltype(size)::value>(s, direct); });
     if (incomplete >= 0) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
@@ -211,7 +200,6 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-      // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
 #ifdef GRAPHSLAM_HAVE_LAPACK
     if (tail_) {  // all d components in one pass, in H's interleaved layout permuted
       b_.resize(static_cast<std::size_t>(nb_) * d_);
@@ -226,6 +214,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       return r;
     }
 #endif
+    // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
     const int per = conformal_ ? 2 : 1;  // doubles per unknown of B
     const int solves = conformal_ ? 1 : d_;
     b_.resize(static_cast<std::size_t>(nb_) * per);
@@ -463,16 +452,8 @@ int firstNonIsotropicColumnOf(const SparseStructure& s, const double* h, int d) 
 int firstNonIsotropicColumn(const SparseStructure& s, const double* h) {
   if (s.num_blocks == 0) return -1;
   const int d = s.block_starts[1] - s.block_starts[0];
-  switch (d) {
-    case 1:
-      return firstNonIsotropicColumnOf<1>(s, h, d);
-    case 2:
-      return firstNonIsotropicColumnOf<2>(s, h, d);
-    case 3:
-      return firstNonIsotropicColumnOf<3>(s, h, d);
-    default:
-      return firstNonIsotropicColumnOf<0>(s, h, d);
-  }
+  return withFixedSize(
+      d, [&](auto size) { return firstNonIsotropicColumnOf<decltype(size)::value>(s, h, d); });
 }
 
 int firstNonConformalColumn(const SparseStructure& s, const double* h) {

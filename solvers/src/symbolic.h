@@ -40,16 +40,6 @@ struct SymbolicCost {
   double flops = 0.0;            ///< sum over columns of (column count)^2
 };
 
-/// A fully dense trailing part of L of at least this many scalar rows may take its Schur
-/// complement from BLAS (tail-llt, the isotropic solver's factorisation).
-inline constexpr int kBlasTailMinRows = 32;
-/// Whether tail-llt forms the Schur complement of a dense tail of `tail_rows` scalar rows
-/// by one BLAS rank update with a dense panel of `panel_columns` columns (the columns
-/// before the tail holding rows in it), where the up-looking loop would make `pair_flops`
-/// scalar products (sum over those columns of rows in the tail squared, times their
-/// width). False without BLAS / LAPACK (tail_cholesky.cpp).
-[[nodiscard]] bool blasTailPays(double tail_rows, double panel_columns, double pair_flops);
-
 /// Elimination tree and column counts on the block graph of H (blocks stay together in
 /// every ordering of this library), expanded to scalar columns. `order[k]` is the
 /// original column at position k and must keep each block's columns contiguous. Work

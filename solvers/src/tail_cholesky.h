@@ -40,6 +40,22 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 
 namespace graphslam::solvers::detail {
 
+/// A fully dense trailing part of L of at least this many scalar rows may take its Schur
+/// complement from BLAS.
+inline constexpr int kBlasTailMinRows = 32;
+
+/// Whether the Schur complement of a dense tail of `tail_rows` scalar rows is formed by one
+/// BLAS rank update with a dense W of `panel_columns` columns (the columns before the tail
+/// holding rows in it), where a sparse loop would make `pair_flops` products (the sum over
+/// those columns of their rows in the tail squared). dsyrk makes tail_rows^2 *
+/// panel_columns / 2 multiply-adds against the loop's pair_flops / 2, each several times
+/// slower than BLAS's; the dense tail stays below 128 MiB, W below 64 MiB.
+inline bool blasTailPays(double tail_rows, double panel_columns, double pair_flops) {
+  return tail_rows >= kBlasTailMinRows && tail_rows <= 4096.0 &&
+         tail_rows * panel_columns <= 8.0 * 1024 * 1024 &&
+         tail_rows * tail_rows * panel_columns <= 4.0 * pair_flops;
+}
+
 /// Row patterns of L are kept up to this many entries (8 MiB); a larger factor is declined
 /// (its loop alone would cost far more than the isotropic solver allows it).
 inline constexpr std::size_t kMaxRowEntries = std::size_t{1} << 21;
@@ -253,19 +269,7 @@ class TailCholesky final : public OrderedSolver {
     if (a_ptr_.empty()) {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
     }
-    switch (d) {
-      case 1:
-        solveSparse<1>(y, d);
-        break;
-      case 2:
-        solveSparse<2>(y, d);
-        break;
-      case 3:
-        solveSparse<3>(y, d);
-        break;
-      default:
-        solveSparse<0>(y, d);
-    }
+    withFixedSize(d, [&](auto size) { solveSparse<decltype(size)::value>(y, d); });
     if (!allFinite(y, n_ * d)) return notFinite();
     return LinearSolverResult::success();
   }
