@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Solvers built on Eigen alone: sparse LDL^T / LL^T, sparse QR on J, dense LDL^T, dense
-// pseudo-inverse and block-Jacobi preconditioned conjugate gradients.
+// pseudo-inverse (block-Jacobi preconditioned conjugate gradients: pcg_solver.cpp).
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseQR>
@@ -297,130 +297,6 @@ class DensePinvSolver final : public LinearSolver {
   Eigen::VectorXd inverse_eigenvalues_;
 };
 
-/// Conjugate gradients on H with a block-Jacobi preconditioner (the inverse of every
-/// vertex's diagonal block). Iterates to a relative residual of `tolerance`.
-class PcgSolver final : public LinearSolver {
- public:
-  std::string name() const override { return "pcg"; }
-  Ordering ordering() const override { return Ordering::kNatural; }
-
-  LinearSolverResult analyze(const SparseStructure& s) override {
-    structure_ = s;
-    return LinearSolverResult::success();
-  }
-
-  LinearSolverResult factorize(const double* values) override {
-    const SparseStructure& s = structure_;
-    values_.assign(values, values + s.nnz());
-    blocks_.resize(static_cast<std::size_t>(s.num_blocks));
-    for (int b = 0; b < s.num_blocks; ++b) {
-      const int c0 = s.block_starts[b];
-      const int d = s.block_starts[b + 1] - c0;
-      Eigen::MatrixXd block(d, d);
-      for (int j = 0; j < d; ++j) {
-        for (int k = s.col_ptr[c0 + j]; k < s.col_ptr[c0 + j + 1]; ++k) {
-          const int r = s.row_idx[k];
-          if (r >= c0 && r <= c0 + j) {
-            block(r - c0, j) = values_[k];
-            block(j, r - c0) = values_[k];
-          }
-        }
-      }
-      Eigen::LDLT<Eigen::MatrixXd> ldlt(block);
-      const Eigen::VectorXd dvec = ldlt.vectorD();
-      const double tol = zeroTolerance(d, block.cwiseAbs().maxCoeff());
-      if (ldlt.info() != Eigen::Success || !(dvec.minCoeff() > tol)) {
-        const bool negative = dvec.minCoeff() < -tol;
-        return LinearSolverResult::failure(
-            negative ? LinearSolverStatus::kNotPositiveDefinite : LinearSolverStatus::kSingular,
-            "diagonal block is not positive definite", c0);
-      }
-      blocks_[b] = ldlt.solve(Eigen::MatrixXd::Identity(d, d));
-    }
-    return LinearSolverResult::success();
-  }
-
-  LinearSolverResult solve(const double* rhs, double* x) override {
-    const int n = structure_.n;
-    const Eigen::Map<const Eigen::VectorXd> b(rhs, n);
-    Eigen::VectorXd sol = Eigen::VectorXd::Zero(n), r = b, z(n), p(n), q(n);
-    precondition(r, z);
-    p = z;
-    double rz = r.dot(z);
-    const double b_norm = b.norm();
-    iterations_ = 0;
-    if (b_norm == 0.0) {
-      Eigen::Map<Eigen::VectorXd>(x, n).setZero();
-      return LinearSolverResult::success();
-    }
-    const int max_iterations = std::max(100, std::min(10 * n, 5000));
-    while (r.norm() > tolerance_ * b_norm) {
-      if (++iterations_ > max_iterations) {
-        return LinearSolverResult::failure(
-            LinearSolverStatus::kSingular,
-            "conjugate gradients did not converge in " + std::to_string(max_iterations) +
-                " iterations (relative residual " + std::to_string(r.norm() / b_norm) + ")");
-      }
-      multiply(p, q);
-      const double pq = p.dot(q);
-      if (!(pq > 0.0)) {
-        return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
-                                           "non-positive curvature p^T H p");
-      }
-      const double alpha = rz / pq;
-      sol += alpha * p;
-      r -= alpha * q;
-      precondition(r, z);
-      const double rz_new = r.dot(z);
-      p = z + (rz_new / rz) * p;
-      rz = rz_new;
-    }
-    Eigen::Map<Eigen::VectorXd>(x, n) = sol;
-    if (!detail::allFinite(x, n)) return detail::notFinite();
-    return LinearSolverResult::success();
-  }
-
-  /// Non-zeros of the preconditioner (the inverted diagonal blocks).
-  std::size_t factorNonZeros() const override {
-    std::size_t nnz = 0;
-    for (const auto& b : blocks_) nnz += static_cast<std::size_t>(b.size());
-    return nnz;
-  }
-
- private:
-  /// y = H x from the upper triangle.
-  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    const SparseStructure& s = structure_;
-    y.setZero(s.n);
-    for (int c = 0; c < s.n; ++c) {
-      double acc = 0.0;
-      for (int k = s.col_ptr[c]; k < s.col_ptr[c + 1]; ++k) {
-        const int r = s.row_idx[k];
-        if (r > c) break;  // rows are sorted: the rest is below the diagonal
-        const double v = values_[k];
-        y[r] += v * x[c];
-        if (r != c) acc += v * x[r];
-      }
-      y[c] += acc;
-    }
-  }
-  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
-    const SparseStructure& s = structure_;
-    z.resize(s.n);
-    for (int b = 0; b < s.num_blocks; ++b) {
-      const int c0 = s.block_starts[b];
-      const int d = s.block_starts[b + 1] - c0;
-      z.segment(c0, d) = blocks_[b] * r.segment(c0, d);
-    }
-  }
-
-  SparseStructure structure_;
-  std::vector<double> values_;
-  std::vector<Eigen::MatrixXd> blocks_;
-  double tolerance_ = 1e-14;
-  int iterations_ = 0;
-};
-
 }  // namespace
 
 std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
@@ -430,6 +306,8 @@ std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
 }
 
 std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
+
+std::unique_ptr<LinearSolver> makePcgSolver();
 
 void registerEigenSolvers(SolverRegistry& registry) {
   const auto orderings = detail::availableOrderings();
@@ -467,11 +345,12 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "dense-pinv", "dense pseudo-inverse of H from its eigendecomposition (Eigen)",
       SystemForm::kNormalEquations, {Ordering::kNatural},
       [](const LinearSolverOptions&) { return std::make_unique<DensePinvSolver>(); });
-  registry.registerSolver("pcg",
-                          "conjugate gradients on H, block-Jacobi preconditioner, relative "
-                          "residual 1e-14 (at most 5000 iterations)",
-                          SystemForm::kNormalEquations, {Ordering::kNatural},
-                          [](const LinearSolverOptions&) { return std::make_unique<PcgSolver>(); });
+  registry.registerSolver(
+      "pcg",
+      "conjugate gradients on H, block-Jacobi preconditioner, relative residual 1e-14 (at most "
+      "5000 iterations); on H = H_s (x) I_d on H_s with d right-hand sides",
+      SystemForm::kNormalEquations, {Ordering::kNatural},
+      [](const LinearSolverOptions&) { return makePcgSolver(); });
 }
 
 void registerSolvers(SolverRegistry& registry) {

@@ -322,9 +322,18 @@ class TailCholesky final : public OrderedSolver {
         for (int c = 0; c < kHeld; ++c) held[c] -= l * yr[c];
       }
       if (const double* w = panelColumn(j)) {
-        for (int i = 0; i < k_; ++i) {
-          for (int c = 0; c < kHeld; ++c) held[c] -= w[i] * yt[i * kHeld + c];
+        // Four independent sums over W's column: the additions do not wait for each other.
+        double s[4][kHeld] = {};
+        int i = 0;
+        for (; i + 4 <= k_; i += 4) {
+          for (int u = 0; u < 4; ++u) {
+            for (int c = 0; c < kHeld; ++c) s[u][c] += w[i + u] * yt[(i + u) * kHeld + c];
+          }
         }
+        for (; i < k_; ++i) {
+          for (int c = 0; c < kHeld; ++c) s[0][c] += w[i] * yt[i * kHeld + c];
+        }
+        for (int c = 0; c < kHeld; ++c) held[c] -= (s[0][c] + s[1][c]) + (s[2][c] + s[3][c]);
       }
       const double inv = 1.0 / values_[col_ptr_[j]];
       for (int c = 0; c < kHeld; ++c) yj[c] = held[c] * inv;
