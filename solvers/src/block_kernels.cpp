@@ -210,7 +210,76 @@ __attribute__((target("avx2,fma"))) void backward2Avx2(const double* inv_i, doub
   _mm_storeu_pd(
       y_i, _mm_hadd_pd(_mm_mul_pd(_mm_loadu_pd(inv_i), z), _mm_mul_pd(_mm_loadu_pd(inv_i + 2), z)));
 }
+
+/// Entries at..at+3 of pairProductAvx2's row: lo += their first two, hi += the others.
+__attribute__((target("avx2,fma"))) inline void pairProductStep(const double* val, const int* col,
+                                                                const double* p, int at,
+                                                                __m256d& lo, __m256d& hi) {
+  const auto pair = [p](int c) { return _mm_loadu_pd(p + 2 * static_cast<std::ptrdiff_t>(c)); };
+  const __m256d v = _mm256_loadu_pd(val + at);
+  const __m256d p01 =
+      _mm256_insertf128_pd(_mm256_castpd128_pd256(pair(col[at])), pair(col[at + 1]), 1);
+  const __m256d p23 =
+      _mm256_insertf128_pd(_mm256_castpd128_pd256(pair(col[at + 2])), pair(col[at + 3]), 1);
+  lo = _mm256_fmadd_pd(_mm256_permute4x64_pd(v, 0x50), p01, lo);  // v0 v0 v1 v1
+  hi = _mm256_fmadd_pd(_mm256_permute4x64_pd(v, 0xFA), p23, hi);  // v2 v2 v3 v3
+}
+
+/// PairProductFn with 256-bit vectors: two entries (their two coordinates each) per
+/// multiply-add, eight entries per step in four independent sums.
+__attribute__((target("avx2,fma"))) void pairProductAvx2(const int* ptr, const int* col,
+                                                         const double* val, int m, const double* p,
+                                                         double* q, double* pq) {
+  const auto pair = [p](int c) { return _mm_loadu_pd(p + 2 * static_cast<std::ptrdiff_t>(c)); };
+  __m128d dot = _mm_setzero_pd();
+  for (int i = 0; i < m; ++i) {
+    __m256d s0 = _mm256_setzero_pd(), s1 = s0, s2 = s0, s3 = s0;
+    int k = ptr[i];
+    const int end = ptr[i + 1];
+    for (; k + 8 <= end; k += 8) {
+      pairProductStep(val, col, p, k, s0, s1);
+      pairProductStep(val, col, p, k + 4, s2, s3);
+    }
+    if (k + 4 <= end) {
+      pairProductStep(val, col, p, k, s0, s1);
+      k += 4;
+    }
+    const __m256d s = _mm256_add_pd(_mm256_add_pd(s0, s1), _mm256_add_pd(s2, s3));
+    __m128d a = _mm_add_pd(_mm256_castpd256_pd128(s), _mm256_extractf128_pd(s, 1));
+    for (; k < end; ++k) a = _mm_fmadd_pd(_mm_set1_pd(val[k]), pair(col[k]), a);
+    _mm_storeu_pd(q + 2 * static_cast<std::ptrdiff_t>(i), a);
+    dot = _mm_fmadd_pd(_mm_loadu_pd(p + 2 * static_cast<std::ptrdiff_t>(i)), a, dot);
+  }
+  _mm_storeu_pd(pq, _mm_add_pd(_mm_loadu_pd(pq), dot));
+}
 #endif
+
+/// PairProductFn, portable: four independent sums per row.
+void pairProductPortable(const int* ptr, const int* col, const double* val, int m, const double* p,
+                         double* q, double* pq) {
+  for (int i = 0; i < m; ++i) {
+    double s[4][2] = {};
+    int k = ptr[i];
+    const int end = ptr[i + 1];
+    for (; k + 4 <= end; k += 4) {
+      for (int u = 0; u < 4; ++u) {
+        const double* pj = p + 2 * static_cast<std::ptrdiff_t>(col[k + u]);
+        s[u][0] += val[k + u] * pj[0];
+        s[u][1] += val[k + u] * pj[1];
+      }
+    }
+    for (; k < end; ++k) {
+      const double* pj = p + 2 * static_cast<std::ptrdiff_t>(col[k]);
+      s[0][0] += val[k] * pj[0];
+      s[0][1] += val[k] * pj[1];
+    }
+    for (int t = 0; t < 2; ++t) {
+      const double a = (s[0][t] + s[1][t]) + (s[2][t] + s[3][t]);
+      q[2 * static_cast<std::ptrdiff_t>(i) + t] = a;
+      pq[t] += p[2 * static_cast<std::ptrdiff_t>(i) + t] * a;
+    }
+  }
+}
 
 }  // namespace
 
@@ -250,6 +319,13 @@ SolveKernels solveKernels(int block_size) {
   if (block_size == 3) return {forwardPortable<3>, backwardPortable<3>};
   if (block_size == 2) return {forwardPortable<2>, backwardPortable<2>};
   return {forwardPortable<1>, backwardPortable<1>};
+}
+
+PairProductFn pairProductKernel() {
+#ifdef GRAPHSLAM_HAVE_AVX2_KERNELS
+  if (useAvx2()) return pairProductAvx2;
+#endif
+  return pairProductPortable;
 }
 
 }  // namespace graphslam::solvers::detail

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Private to graphslam::solvers: the innermost loops of block-llt (elimination and
-// triangular solves), with AVX2/FMA versions chosen at run time on CPUs that have them
-// (the library itself is built for the portable x86-64 baseline, SSE2, as Debian builds).
+// triangular solves) and of pcg's isotropic product, with AVX2/FMA versions chosen at run time on
+// CPUs that have them (the library itself is built for the portable x86-64 baseline, SSE2, as
+// Debian builds).
 #pragma once
 
 namespace graphslam::solvers::detail {
@@ -35,11 +36,18 @@ struct SolveKernels {
                    const double* y);
 };
 
+/// pcg's product with H_s on two interleaved right-hand sides: for the rows i < m of
+/// the CSR matrix (ptr, col, val), q_i = sum_k val[k] p_col[k] and pq += p_i * q_i,
+/// where x_i is the pair x[2i], x[2i + 1] (pq: two sums, one per right-hand side).
+using PairProductFn = void (*)(const int* ptr, const int* col, const double* val, int m,
+                               const double* p, double* q, double* pq);
+
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();
 
 /// The kernel for B = 1, 2 or 3, on the path of solvers::blockKernelPath() (register.h).
 [[nodiscard]] EliminateFn eliminateKernel(int block_size);
 [[nodiscard]] SolveKernels solveKernels(int block_size);
+[[nodiscard]] PairProductFn pairProductKernel();
 
 }  // namespace graphslam::solvers::detail

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "block_kernels.h"
 #include "common.h"
 #include "graphslam/solvers/register.h"
 
@@ -69,9 +70,12 @@ struct SymmetricRows {
     return -1;
   }
 
-  void fill(const double* h) {
+  /// The values from H's; returns their sum.
+  double fill(const double* h) {
     values.resize(source.size());
-    for (std::size_t k = 0; k < source.size(); ++k) values[k] = h[source[k]];
+    double sum = 0.0;
+    for (std::size_t k = 0; k < source.size(); ++k) sum += values[k] = h[source[k]];
+    return sum;
   }
 };
 
@@ -109,26 +113,24 @@ class PcgSolver final : public LinearSolver {
         if (bad >= 0) return incomplete(bad);
         scalar_ready_ = true;
       }
-      scalar_.fill(values);
+      // The values, and 1^T H_s 1 (all of them) on the way: the coarse correction is used
+      // only when that sum is clearly above its rounding error (the rows of a Laplacian
+      // sum to zero: what is left are the priors).
+      const double total = scalar_.fill(values);
       inverse_.resize(static_cast<std::size_t>(scalar_.n));
-      double largest = 0.0;
-      for (int i = 0; i < scalar_.n; ++i) largest = std::max(largest, values[scalar_.diagonal[i]]);
+      double largest = 0.0, trace = 0.0;
+      for (int i = 0; i < scalar_.n; ++i) {
+        const double v = values[scalar_.diagonal[i]];
+        largest = std::max(largest, v);
+        trace += v;
+      }
       const double tol = zeroTolerance(largest);
       for (int i = 0; i < scalar_.n; ++i) {
         const double v = values[scalar_.diagonal[i]];
         if (!(v > tol)) return notPositive(v < -tol, i * d_);
         inverse_[i] = 1.0 / v;
       }
-      // 1^T H_s 1, row by row; used only when it is clearly above its rounding error
-      // (the rows of a Laplacian sum to zero: what is left are the priors).
-      double total = 0.0, rounding = 0.0;
-      for (int i = 0; i < scalar_.n; ++i) {
-        double row = 0.0;
-        for (int k = scalar_.row_ptr[i]; k < scalar_.row_ptr[i + 1]; ++k) row += scalar_.values[k];
-        total += row;
-        rounding += values[scalar_.diagonal[i]];
-      }
-      rounding *= 64.0 * Eigen::NumTraits<double>::epsilon();
+      const double rounding = 64.0 * Eigen::NumTraits<double>::epsilon() * trace;
       coarse_ = total > rounding ? 1.0 / total : 0.0;
       return LinearSolverResult::success();
     }
@@ -228,43 +230,44 @@ class PcgSolver final : public LinearSolver {
     const auto len = static_cast<std::size_t>(m) * static_cast<std::size_t>(d);
     r_.assign(rhs, rhs + len);
     sol_.assign(len, 0.0);
-    z_.resize(len);
     q_.resize(len);
     p_.resize(len);
-    // Per coordinate: r.z (rz), p.q (pq), sum of r (sum), the step (step),
-    // and a row of q (acc), in one array of 5 d: fixed-size for D > 0.
+    // Per coordinate: r.z (rz), p.q (pq), sum of r (sum), the step (step), the
+    // preconditioner's constant shift (shift), r.D^-1.r (wr2) and a row of q (acc), in one
+    // array of 7 d: fixed-size for D > 0. z = D^-1 r + shift is never stored: r.z =
+    // r.D^-1.r + coarse sum^2, and p = z + beta p is formed from r directly.
     constexpr int kFixed = D > 0 ? D : 1;
-    std::vector<double> wide(D > 0 ? 0 : 5 * static_cast<std::size_t>(d));
-    double fixed[5 * kFixed];
+    std::vector<double> wide(D > 0 ? 0 : 7 * static_cast<std::size_t>(d));
+    double fixed[7 * kFixed];
     double* rz = D > 0 ? fixed : wide.data();
     double* pq = rz + d;
     double* sum = pq + d;
     double* step = sum + d;
-    double* acc = step + d;
+    double* shift = step + d;
+    double* wr2 = shift + d;
+    double* acc = wr2 + d;
     const double* inv = inverse_.data();
     const double coarse = coarse_;
     double b2 = 0.0;
-    for (int t = 0; t < d; ++t) sum[t] = 0.0;
-    for (std::size_t e = 0; e < len; ++e) {
-      sum[e % d] += r_[e];
-      b2 += r_[e] * r_[e];
-    }
-    // z = M^-1 r, rz = r.z per coordinate.
-    const auto precondition = [&]() {
+    for (int t = 0; t < d; ++t) sum[t] = wr2[t] = 0.0;
+    for (int i = 0; i < m; ++i) {
       for (int t = 0; t < d; ++t) {
-        step[t] = coarse * sum[t];
-        rz[t] = 0.0;
+        const double v = r_[static_cast<std::size_t>(i) * d + t];
+        sum[t] += v;
+        b2 += v * v;
+        wr2[t] += inv[i] * v * v;
       }
-      for (int i = 0; i < m; ++i) {
-        for (int t = 0; t < d; ++t) {
-          const std::size_t e = static_cast<std::size_t>(i) * d + t;
-          z_[e] = inv[i] * r_[e] + step[t];
-          rz[t] += r_[e] * z_[e];
-        }
+    }
+    for (int t = 0; t < d; ++t) {
+      shift[t] = coarse * sum[t];
+      rz[t] = wr2[t] + coarse * sum[t] * sum[t];
+    }
+    for (int i = 0; i < m; ++i) {  // p = z
+      for (int t = 0; t < d; ++t) {
+        const std::size_t e = static_cast<std::size_t>(i) * d + t;
+        p_[e] = inv[i] * r_[e] + shift[t];
       }
-    };
-    precondition();
-    std::copy(z_.begin(), z_.end(), p_.begin());
+    }
     const double limit = kTolerance * kTolerance * b2;
     double r2 = b2;
     const int* ptr = scalar_.row_ptr.data();
@@ -276,43 +279,22 @@ class PcgSolver final : public LinearSolver {
       if (it >= maxIterations()) return notConverged(std::sqrt(r2 / b2));
       // q = H_s p, and p.q per coordinate.
       for (int t = 0; t < d; ++t) pq[t] = 0.0;
-      for (int i = 0; i < m; ++i) {
-        double* a = acc;
-        if constexpr (D > 0) {
-          // Four independent sums (entries k mod 4), in registers: the additions of one
-          // row do not wait for each other.
-          double s0[D] = {}, s1[D] = {}, s2[D] = {}, s3[D] = {};
-          int k = ptr[i];
-          const int end = ptr[i + 1];
-          for (; k + 4 <= end; k += 4) {
-            const double* p0 = p + static_cast<std::size_t>(col[k]) * D;
-            const double* p1 = p + static_cast<std::size_t>(col[k + 1]) * D;
-            const double* p2 = p + static_cast<std::size_t>(col[k + 2]) * D;
-            const double* p3 = p + static_cast<std::size_t>(col[k + 3]) * D;
-            for (int t = 0; t < D; ++t) {
-              s0[t] += val[k] * p0[t];
-              s1[t] += val[k + 1] * p1[t];
-              s2[t] += val[k + 2] * p2[t];
-              s3[t] += val[k + 3] * p3[t];
-            }
-          }
-          for (; k < end; ++k) {
-            const double* pj = p + static_cast<std::size_t>(col[k]) * D;
-            for (int t = 0; t < D; ++t) s0[t] += val[k] * pj[t];
-          }
-          for (int t = 0; t < D; ++t) a[t] = (s0[t] + s1[t]) + (s2[t] + s3[t]);
-        } else {
+      if constexpr (D == 2) {
+        pair_product_(ptr, col, val, m, p, q, pq);
+      } else {
+        for (int i = 0; i < m; ++i) {
+          double* a = acc;
           std::fill(a, a + d, 0.0);
           for (int k = ptr[i]; k < ptr[i + 1]; ++k) {
             const double v = val[k];
             const double* pj = p + static_cast<std::size_t>(col[k]) * d;
             for (int t = 0; t < d; ++t) a[t] += v * pj[t];
           }
-        }
-        const std::size_t e = static_cast<std::size_t>(i) * d;
-        for (int t = 0; t < d; ++t) {
-          q[e + t] = a[t];
-          pq[t] += p[e + t] * a[t];
+          const std::size_t e = static_cast<std::size_t>(i) * d;
+          for (int t = 0; t < d; ++t) {
+            q[e + t] = a[t];
+            pq[t] += p[e + t] * a[t];
+          }
         }
       }
       for (int t = 0; t < d; ++t) {
@@ -324,26 +306,39 @@ class PcgSolver final : public LinearSolver {
         } else {
           step[t] = rz[t] / pq[t];
         }
-        sum[t] = 0.0;
+        sum[t] = wr2[t] = 0.0;
       }
+      // The per-coordinate sums in local arrays when D is fixed (registers: nothing else
+      // can point at them).
+      double local_step[kFixed], local_sum[kFixed] = {}, local_wr2[kFixed] = {};
+      double* st = D > 0 ? local_step : step;
+      double* sm = D > 0 ? local_sum : sum;
+      double* w2 = D > 0 ? local_wr2 : wr2;
+      if constexpr (D > 0) std::copy(step, step + D, local_step);
+      double* const sol = sol_.data();
+      double* const r = r_.data();
       r2 = 0.0;
       for (int i = 0; i < m; ++i) {
         for (int t = 0; t < d; ++t) {
           const std::size_t e = static_cast<std::size_t>(i) * d + t;
-          sol_[e] += step[t] * p[e];
-          const double v = r_[e] - step[t] * q[e];
-          r_[e] = v;
-          sum[t] += v;
+          sol[e] += st[t] * p[e];
+          const double v = r[e] - st[t] * q[e];
+          r[e] = v;
+          sm[t] += v;
           r2 += v * v;
+          w2[t] += inv[i] * v * v;
         }
       }
-      for (int t = 0; t < d; ++t) acc[t] = rz[t];  // the previous r.z
-      precondition();
-      for (int t = 0; t < d; ++t) step[t] = acc[t] == 0.0 ? 0.0 : rz[t] / acc[t];  // beta
-      for (int i = 0; i < m; ++i) {
+      for (int t = 0; t < d; ++t) {
+        const double rz_new = w2[t] + coarse * sm[t] * sm[t];
+        st[t] = rz[t] == 0.0 ? 0.0 : rz_new / rz[t];  // beta
+        rz[t] = rz_new;
+        sm[t] *= coarse;  // the shift
+      }
+      for (int i = 0; i < m; ++i) {  // p = z + beta p
         for (int t = 0; t < d; ++t) {
           const std::size_t e = static_cast<std::size_t>(i) * d + t;
-          p[e] = z_[e] + step[t] * p[e];
+          p[e] = inv[i] * r[e] + sm[t] + st[t] * p[e];
         }
       }
     }
@@ -414,6 +409,7 @@ class PcgSolver final : public LinearSolver {
   }
 
   SparseStructure structure_;
+  detail::PairProductFn pair_product_ = detail::pairProductKernel();  // H_s p, two coordinates
   int d_ = 1;
   bool uniform_ = true, isotropic_ = false;
   bool scalar_ready_ = false, full_ready_ = false;

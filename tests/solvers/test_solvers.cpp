@@ -836,65 +836,68 @@ TEST(Solvers_Isotropic, DenseLandmarkTailsAreSolvedAndNameTheFailingVertex) {
   EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10);
 }
 
-// Linear SLAM's H = H_s (x) I_2 with H_s a weighted graph Laplacian (a pose chain and
+// Linear SLAM's H = H_s (x) I_d with H_s a weighted graph Laplacian (a pose chain and
 // landmarks, weights 1e4) plus a weak prior (1) on the first pose: pcg iterates on H_s
-// with the two coordinates as right-hand sides (its preconditioner then has one entry
+// with the d coordinates as right-hand sides (its preconditioner then has one entry
 // per vertex) and converges although the prior leaves H's condition number near 1e8.
 TEST(Solvers_Pcg, IsotropicLaplacianWithAWeakPriorConverges) {
-  SolverRegistry registry;
-  solvers::registerSolvers(registry);
-  std::mt19937 rng(5);
-  const int poses = 120, landmarks = 40;
-  std::set<std::pair<int, int>> upper;
-  std::uniform_int_distribution<int> pose(0, poses - 1);
-  for (int p = 0; p + 1 < poses; ++p) upper.insert({p, p + 1});
-  for (int l = 0; l < landmarks; ++l) {
-    for (int k = 0; k < 4; ++k) upper.insert({pose(rng), poses + l});
+  for (const int dim : {2, 3, 4}) {  // the pair kernel, a fixed size, any size
+    SCOPED_TRACE(dim);
+    SolverRegistry registry;
+    solvers::registerSolvers(registry);
+    std::mt19937 rng(5);
+    const int poses = 120, landmarks = 40;
+    std::set<std::pair<int, int>> upper;
+    std::uniform_int_distribution<int> pose(0, poses - 1);
+    for (int p = 0; p + 1 < poses; ++p) upper.insert({p, p + 1});
+    for (int l = 0; l < landmarks; ++l) {
+      for (int k = 0; k < 4; ++k) upper.insert({pose(rng), poses + l});
+    }
+    BlockSystem sys(poses + landmarks, dim, upper);
+    const int nb = poses + landmarks;
+    Eigen::MatrixXd hs = Eigen::MatrixXd::Zero(nb, nb);
+    for (const auto& [a, b] : upper) {
+      hs(a, a) += 1e4;
+      hs(b, b) += 1e4;
+      hs(a, b) -= 1e4;
+      hs(b, a) -= 1e4;
+    }
+    hs(0, 0) += 1.0;
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(sys.n(), sys.n());
+    for (int r = 0; r < nb; ++r) {
+      for (int c = 0; c < nb; ++c)
+        h.block(dim * r, dim * c, dim, dim) = hs(r, c) * Eigen::MatrixXd::Identity(dim, dim);
+    }
+    Eigen::VectorXd truth(sys.n());
+    std::uniform_real_distribution<double> u(-10, 10);
+    for (int i = 0; i < sys.n(); ++i) truth[i] = u(rng);
+    const Eigen::VectorXd rhs = h * truth;
+    auto solver = registry.create("pcg");
+    ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+    const auto values = sys.values(h);
+    ASSERT_TRUE(solver->factorize(values.data()).ok());
+    EXPECT_EQ(solver->factorNonZeros(), static_cast<std::size_t>(nb));  // H_s's diagonal
+    Eigen::VectorXd x(sys.n());
+    const LinearSolverResult r = solver->solve(rhs.data(), x.data());
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_LT((x - truth).cwiseAbs().maxCoeff(), 1e-6);
+    // A vertex whose diagonal block is negative: named before any iteration.
+    Eigen::MatrixXd bad = h;
+    bad.block(dim * 37, dim * 37, dim, dim) *= -1.0;
+    const auto bad_values = sys.values(bad);
+    const LinearSolverResult rb = solver->factorize(bad_values.data());
+    EXPECT_EQ(rb.status, LinearSolverStatus::kNotPositiveDefinite);
+    EXPECT_EQ(rb.column, dim * 37);
+    // Not isotropic: the block-Jacobi iteration on H itself.
+    Eigen::MatrixXd skew = h;
+    skew(dim * 5, dim * 5) += 3.0;
+    const auto skew_values = sys.values(skew);
+    ASSERT_TRUE(solver->factorize(skew_values.data()).ok());
+    EXPECT_EQ(solver->factorNonZeros(), static_cast<std::size_t>(dim * dim * nb));
+    const Eigen::VectorXd skew_rhs = skew * truth;
+    ASSERT_TRUE(solver->solve(skew_rhs.data(), x.data()).ok());
+    EXPECT_LT((x - truth).cwiseAbs().maxCoeff(), 1e-6);
   }
-  BlockSystem sys(poses + landmarks, 2, upper);
-  const int nb = poses + landmarks;
-  Eigen::MatrixXd hs = Eigen::MatrixXd::Zero(nb, nb);
-  for (const auto& [a, b] : upper) {
-    hs(a, a) += 1e4;
-    hs(b, b) += 1e4;
-    hs(a, b) -= 1e4;
-    hs(b, a) -= 1e4;
-  }
-  hs(0, 0) += 1.0;
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(sys.n(), sys.n());
-  for (int r = 0; r < nb; ++r) {
-    for (int c = 0; c < nb; ++c)
-      h.block(2 * r, 2 * c, 2, 2) = hs(r, c) * Eigen::Matrix2d::Identity();
-  }
-  Eigen::VectorXd truth(sys.n());
-  std::uniform_real_distribution<double> u(-10, 10);
-  for (int i = 0; i < sys.n(); ++i) truth[i] = u(rng);
-  const Eigen::VectorXd rhs = h * truth;
-  auto solver = registry.create("pcg");
-  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
-  const auto values = sys.values(h);
-  ASSERT_TRUE(solver->factorize(values.data()).ok());
-  EXPECT_EQ(solver->factorNonZeros(), static_cast<std::size_t>(nb));  // H_s's diagonal
-  Eigen::VectorXd x(sys.n());
-  const LinearSolverResult r = solver->solve(rhs.data(), x.data());
-  ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_LT((x - truth).cwiseAbs().maxCoeff(), 1e-6);
-  // A vertex whose diagonal block is negative: named before any iteration.
-  Eigen::MatrixXd bad = h;
-  bad.block(2 * 37, 2 * 37, 2, 2) *= -1.0;
-  const auto bad_values = sys.values(bad);
-  const LinearSolverResult rb = solver->factorize(bad_values.data());
-  EXPECT_EQ(rb.status, LinearSolverStatus::kNotPositiveDefinite);
-  EXPECT_EQ(rb.column, 2 * 37);
-  // Not isotropic: the 2 x 2 block-Jacobi iteration on H itself.
-  Eigen::MatrixXd skew = h;
-  skew(2 * 5, 2 * 5) += 3.0;
-  const auto skew_values = sys.values(skew);
-  ASSERT_TRUE(solver->factorize(skew_values.data()).ok());
-  EXPECT_EQ(solver->factorNonZeros(), static_cast<std::size_t>(4 * nb));
-  const Eigen::VectorXd skew_rhs = skew * truth;
-  ASSERT_TRUE(solver->solve(skew_rhs.data(), x.data()).ok());
-  EXPECT_LT((x - truth).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(Solvers_Isotropic, NeedsVerticesOfOneDimension) {
