@@ -131,6 +131,12 @@ class OrderedSolver : public LinearSolver {
 /// when H is the real form of a Hermitian complex matrix (isotropic_solver.cpp).
 [[nodiscard]] int firstNonConformalColumn(const SparseStructure& s, const double* h);
 
+/// Tolerance below which a pivot or eigenvalue of an n x n matrix counts as zero, relative
+/// to the largest.
+inline double zeroTolerance(int n, double largest) {
+  return static_cast<double>(n) * Eigen::NumTraits<double>::epsilon() * largest;
+}
+
 inline LinearSolverResult notFinite() {
   return LinearSolverResult::failure(LinearSolverStatus::kSingular, "solution is not finite");
 }

@@ -184,11 +184,6 @@ class EigenQrSolver final : public LinearSolver {
   Eigen::VectorXd rhs_, work_;
 };
 
-/// Tolerance below which a pivot or eigenvalue counts as zero, relative to the largest.
-double zeroTolerance(int n, double largest) {
-  return static_cast<double>(n) * Eigen::NumTraits<double>::epsilon() * largest;
-}
-
 /// Dense LDL^T with symmetric pivoting (Eigen::LDLT) of the whole of H.
 class DenseLdltSolver final : public LinearSolver {
  public:
@@ -208,7 +203,7 @@ class DenseLdltSolver final : public LinearSolver {
     const Eigen::VectorXd d = ldlt_.vectorD();
     Eigen::VectorXi original = Eigen::VectorXi::LinSpaced(structure_.n, 0, structure_.n - 1);
     original = ldlt_.transpositionsP() * original;  // original[k] = column pivoted to k
-    const double tol = zeroTolerance(structure_.n, d.cwiseAbs().maxCoeff());
+    const double tol = detail::zeroTolerance(structure_.n, d.cwiseAbs().maxCoeff());
     for (int k = 0; k < d.size(); ++k) {
       if (d[k] < -tol) {
         return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
@@ -261,7 +256,7 @@ class DensePinvSolver final : public LinearSolver {
                                          "eigendecomposition did not converge");
     }
     const Eigen::VectorXd& l = eig_.eigenvalues();  // ascending
-    const double tol = zeroTolerance(structure_.n, l.cwiseAbs().maxCoeff());
+    const double tol = detail::zeroTolerance(structure_.n, l.cwiseAbs().maxCoeff());
     int col = 0;
     if (l[0] < -tol) {
       eig_.eigenvectors().col(0).cwiseAbs().maxCoeff(&col);

@@ -124,7 +124,7 @@ class PcgSolver final : public LinearSolver {
         largest = std::max(largest, v);
         trace += v;
       }
-      const double tol = zeroTolerance(largest);
+      const double tol = detail::zeroTolerance(1, largest);
       for (int i = 0; i < scalar_.n; ++i) {
         const double v = values[scalar_.diagonal[i]];
         if (!(v > tol)) return notPositive(v < -tol, i * d_);
@@ -158,7 +158,7 @@ class PcgSolver final : public LinearSolver {
       }
       Eigen::LDLT<Eigen::MatrixXd> ldlt(block);
       const Eigen::VectorXd dvec = ldlt.vectorD();
-      const double tol = zeroTolerance(block.cwiseAbs().maxCoeff(), d);
+      const double tol = detail::zeroTolerance(d, block.cwiseAbs().maxCoeff());
       if (ldlt.info() != Eigen::Success || !(dvec.minCoeff() > tol)) {
         return notPositive(dvec.minCoeff() < -tol, c0);
       }
@@ -190,9 +190,6 @@ class PcgSolver final : public LinearSolver {
   std::size_t factorNonZeros() const override { return inverse_.size(); }
 
  private:
-  static double zeroTolerance(double largest, int n = 1) {
-    return static_cast<double>(n) * Eigen::NumTraits<double>::epsilon() * largest;
-  }
   static LinearSolverResult notPositive(bool negative, int column) {
     return LinearSolverResult::failure(
         negative ? LinearSolverStatus::kNotPositiveDefinite : LinearSolverStatus::kSingular,
@@ -232,19 +229,18 @@ class PcgSolver final : public LinearSolver {
     sol_.assign(len, 0.0);
     q_.resize(len);
     p_.resize(len);
-    // Per coordinate: r.z (rz), p.q (pq), sum of r (sum), the step (step), the
-    // preconditioner's constant shift (shift), r.D^-1.r (wr2) and a row of q (acc), in one
-    // array of 7 d: fixed-size for D > 0. z = D^-1 r + shift is never stored: r.z =
-    // r.D^-1.r + coarse sum^2, and p = z + beta p is formed from r directly.
+    // Per coordinate: r.z (rz), p.q (pq), sum of r (sum), the step (step), r.D^-1.r (wr2)
+    // and a row of q (acc), in one array of 6 d: fixed-size for D > 0. z = D^-1 r +
+    // coarse sum is never stored: r.z = r.D^-1.r + coarse sum^2, and p = z + beta p is
+    // formed from r directly.
     constexpr int kFixed = D > 0 ? D : 1;
-    std::vector<double> wide(D > 0 ? 0 : 7 * static_cast<std::size_t>(d));
-    double fixed[7 * kFixed];
+    std::vector<double> wide(D > 0 ? 0 : 6 * static_cast<std::size_t>(d));
+    double fixed[6 * kFixed];
     double* rz = D > 0 ? fixed : wide.data();
     double* pq = rz + d;
     double* sum = pq + d;
     double* step = sum + d;
-    double* shift = step + d;
-    double* wr2 = shift + d;
+    double* wr2 = step + d;
     double* acc = wr2 + d;
     const double* inv = inverse_.data();
     const double coarse = coarse_;
@@ -259,13 +255,13 @@ class PcgSolver final : public LinearSolver {
       }
     }
     for (int t = 0; t < d; ++t) {
-      shift[t] = coarse * sum[t];
       rz[t] = wr2[t] + coarse * sum[t] * sum[t];
+      sum[t] *= coarse;  // the preconditioner's constant shift
     }
     for (int i = 0; i < m; ++i) {  // p = z
       for (int t = 0; t < d; ++t) {
         const std::size_t e = static_cast<std::size_t>(i) * d + t;
-        p_[e] = inv[i] * r_[e] + shift[t];
+        p_[e] = inv[i] * r_[e] + sum[t];
       }
     }
     const double limit = kTolerance * kTolerance * b2;
