@@ -103,13 +103,15 @@ const char* toString(Ordering ordering) {
       return "colamd";
     case Ordering::kMetis:
       return "metis";
+    case Ordering::kRcm:
+      return "rcm";
   }
   return "unknown";
 }
 
 bool parseOrdering(const std::string& text, Ordering& ordering) {
   for (Ordering o : {Ordering::kDefault, Ordering::kNatural, Ordering::kAmd, Ordering::kColamd,
-                     Ordering::kMetis}) {
+                     Ordering::kMetis, Ordering::kRcm}) {
     if (text == toString(o)) {
       ordering = o;
       return true;

@@ -2,6 +2,7 @@
 #include "block_kernels.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
@@ -252,6 +253,83 @@ __attribute__((target("avx2,fma"))) void pairProductAvx2(const int* ptr, const i
   }
   _mm_storeu_pd(pq, _mm_add_pd(_mm_loadu_pd(pq), dot));
 }
+
+/// The four sums of a0..a3 in one vector.
+__attribute__((target("avx2,fma"))) inline __m256d sums4(__m256d a0, __m256d a1, __m256d a2,
+                                                         __m256d a3) {
+  const __m256d h01 = _mm256_hadd_pd(a0, a1), h23 = _mm256_hadd_pd(a2, a3);
+  return _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20),
+                       _mm256_permute2f128_pd(h01, h23, 0x31));
+}
+
+/// EnvelopeRowsFn with 256-bit vectors: two rows j, j + 1 at a time against the four rows,
+/// eight sums sharing each load; the second row's entry in column j is folded in after.
+__attribute__((target("avx2,fma"))) void envelopeRowsAvx2(double* values,
+                                                          const std::ptrdiff_t* offset,
+                                                          const int* start, const double* inv_diag,
+                                                          int r, int from) {
+  double* rows[4];
+  for (int t = 0; t < 4; ++t) rows[t] = values + offset[r + t];
+  int j = from;
+  for (; j + 1 < r; j += 2) {
+    const double* lj = values + offset[j];
+    const double* lj1 = values + offset[j + 1];
+    // Row j + 1 may start at j + 1 (then L(j + 1, j) = 0 and only row j's sums run).
+    const int sa = std::max(from, start[j]), sb = std::max(from, start[j + 1]);
+    const int s = std::min(std::max(sa, sb), j);
+    const double l10 = start[j + 1] <= j ? lj1[j] : 0.0;
+    __m256d a0 = _mm256_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
+    __m256d b0 = a0, b1 = a0, b2 = a0, b3 = a0;
+    int k = s;
+    for (; k + 4 <= j; k += 4) {
+      const __m256d v = _mm256_loadu_pd(lj + k), w = _mm256_loadu_pd(lj1 + k);
+      const __m256d x0 = _mm256_loadu_pd(rows[0] + k), x1 = _mm256_loadu_pd(rows[1] + k);
+      const __m256d x2 = _mm256_loadu_pd(rows[2] + k), x3 = _mm256_loadu_pd(rows[3] + k);
+      a0 = _mm256_fmadd_pd(x0, v, a0);
+      a1 = _mm256_fmadd_pd(x1, v, a1);
+      a2 = _mm256_fmadd_pd(x2, v, a2);
+      a3 = _mm256_fmadd_pd(x3, v, a3);
+      b0 = _mm256_fmadd_pd(x0, w, b0);
+      b1 = _mm256_fmadd_pd(x1, w, b1);
+      b2 = _mm256_fmadd_pd(x2, w, b2);
+      b3 = _mm256_fmadd_pd(x3, w, b3);
+    }
+    alignas(32) double d[4], e[4];
+    _mm256_store_pd(d, sums4(a0, a1, a2, a3));
+    _mm256_store_pd(e, sums4(b0, b1, b2, b3));
+    for (int t = 0; t < 4; ++t) {
+      const double* x = rows[t];
+      for (int q = sa; q < s; ++q) d[t] += x[q] * lj[q];   // the part only one of j, j + 1
+      for (int q = sb; q < s; ++q) e[t] += x[q] * lj1[q];  // stores
+      for (int q = k; q < j; ++q) {
+        d[t] += x[q] * lj[q];
+        e[t] += x[q] * lj1[q];
+      }
+      const double v = (x[j] - d[t]) * inv_diag[j];
+      rows[t][j] = v;
+      rows[t][j + 1] = (x[j + 1] - e[t] - v * l10) * inv_diag[j + 1];
+    }
+  }
+  for (; j < r; ++j) {
+    const double* lj = values + offset[j];
+    const int s = std::max(from, start[j]);
+    __m256d a0 = _mm256_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
+    int k = s;
+    for (; k + 4 <= j; k += 4) {
+      const __m256d v = _mm256_loadu_pd(lj + k);
+      a0 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[0] + k), v, a0);
+      a1 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[1] + k), v, a1);
+      a2 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[2] + k), v, a2);
+      a3 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[3] + k), v, a3);
+    }
+    alignas(32) double d[4];
+    _mm256_store_pd(d, sums4(a0, a1, a2, a3));
+    for (int t = 0; t < 4; ++t) {
+      for (int q = k; q < j; ++q) d[t] += rows[t][q] * lj[q];
+      rows[t][j] = (rows[t][j] - d[t]) * inv_diag[j];
+    }
+  }
+}
 #endif
 
 /// PairProductFn, portable: four independent sums per row.
@@ -278,6 +356,21 @@ void pairProductPortable(const int* ptr, const int* col, const double* val, int 
       q[2 * static_cast<std::ptrdiff_t>(i) + t] = a;
       pq[t] += p[2 * static_cast<std::ptrdiff_t>(i) + t] * a;
     }
+  }
+}
+
+/// EnvelopeRowsFn, portable: the four rows' sums for one row j at a time.
+void envelopeRowsPortable(double* values, const std::ptrdiff_t* offset, const int* start,
+                          const double* inv_diag, int r, int from) {
+  double* rows[4];
+  for (int t = 0; t < 4; ++t) rows[t] = values + offset[r + t];
+  for (int j = from; j < r; ++j) {
+    const double* lj = values + offset[j];
+    double d[4] = {};
+    for (int k = std::max(from, start[j]); k < j; ++k) {
+      for (int t = 0; t < 4; ++t) d[t] += rows[t][k] * lj[k];
+    }
+    for (int t = 0; t < 4; ++t) rows[t][j] = (rows[t][j] - d[t]) * inv_diag[j];
   }
 }
 
@@ -326,6 +419,13 @@ PairProductFn pairProductKernel() {
   if (useAvx2()) return pairProductAvx2;
 #endif
   return pairProductPortable;
+}
+
+EnvelopeRowsFn envelopeRowsKernel() {
+#ifdef GRAPHSLAM_HAVE_AVX2_KERNELS
+  if (useAvx2()) return envelopeRowsAvx2;
+#endif
+  return envelopeRowsPortable;
 }
 
 }  // namespace graphslam::solvers::detail

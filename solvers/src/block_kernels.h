@@ -5,6 +5,8 @@
 // Debian builds).
 #pragma once
 
+#include <cstddef>
+
 namespace graphslam::solvers::detail {
 
 /// Rows of the accumulator blocks of block-llt for B x B blocks: 3 x 3 blocks are kept
@@ -42,6 +44,13 @@ struct SolveKernels {
 using PairProductFn = void (*)(const int* ptr, const int* col, const double* val, int m,
                                const double* p, double* q, double* pq);
 
+/// envelope-llt's rows r..r+3, each stored from column `from` (entry k of row i at
+/// values[offset[i] + k], row j's first stored column start[j]), against every row j in
+/// [from, r), in increasing j: on entry L(r+t, j) holds A(r+t, j); on exit
+///   L(r+t, j) = (A(r+t, j) - sum_{k = max(from, start[j])}^{j-1} L(r+t, k) L(j, k)) * inv_diag[j].
+using EnvelopeRowsFn = void (*)(double* values, const std::ptrdiff_t* offset, const int* start,
+                                const double* inv_diag, int r, int from);
+
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();
 
@@ -49,5 +58,6 @@ using PairProductFn = void (*)(const int* ptr, const int* col, const double* val
 [[nodiscard]] EliminateFn eliminateKernel(int block_size);
 [[nodiscard]] SolveKernels solveKernels(int block_size);
 [[nodiscard]] PairProductFn pairProductKernel();
+[[nodiscard]] EnvelopeRowsFn envelopeRowsKernel();
 
 }  // namespace graphslam::solvers::detail

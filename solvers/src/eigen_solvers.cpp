@@ -301,6 +301,7 @@ std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
 }
 
 std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
+std::unique_ptr<detail::OrderedSolver> makeEnvelopeSolver(Ordering ordering);
 
 std::unique_ptr<LinearSolver> makePcgSolver();
 
@@ -329,6 +330,15 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "work is large, else Eigen SimplicialLDLT), d right-hand sides; fails on other systems",
       SystemForm::kNormalEquations, orderings,
       [](const LinearSolverOptions& o) { return makeIsotropicSolver(o.ordering); });
+  std::vector<Ordering> envelope_orderings{Ordering::kRcm};
+  envelope_orderings.insert(envelope_orderings.end(), orderings.begin(), orderings.end());
+  registry.registerSolver(
+      "envelope",
+      "H = H_s (x) I_d (as isotropic): envelope (profile) Cholesky of the scalar H_s, each "
+      "row of L stored from its first non-zero, in an order that keeps the envelope small "
+      "(reverse Cuthill-McKee by default), d right-hand sides; fails on other systems",
+      SystemForm::kNormalEquations, envelope_orderings,
+      [](const LinearSolverOptions& o) { return makeEnvelopeSolver(o.ordering); });
   registry.registerSolver(
       "eigen-qr", "Eigen SparseQR on the whitened Jacobian J", SystemForm::kJacobian, orderings,
       [](const LinearSolverOptions& o) { return std::make_unique<EigenQrSolver>(o.ordering); });

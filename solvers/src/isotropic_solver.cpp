@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common.h"
+#include "envelope_cholesky.h"
 #include "ordering.h"
 #include "symbolic.h"
 #include "tail_cholesky.h"
@@ -53,16 +54,20 @@ constexpr double kRelativeTolerance = 1e-12;
 
 class IsotropicSolver final : public detail::OrderedSolver {
  public:
-  explicit IsotropicSolver(Ordering ordering, bool conformal = false)
-      : ordering_(ordering), conformal_(conformal) {}
+  /// `envelope`: H_s is always factorised by envelope-llt (the envelope solver).
+  explicit IsotropicSolver(Ordering ordering, bool conformal = false, bool envelope = false)
+      : ordering_(ordering), conformal_(conformal), envelope_mode_(envelope) {}
 
-  std::string name() const override { return conformal_ ? "conformal" : "isotropic"; }
+  std::string name() const override {
+    return conformal_ ? "conformal" : envelope_mode_ ? "envelope" : "isotropic";
+  }
   Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;
     inner_.reset();
+    envelope_ = nullptr;
 #ifdef GRAPHSLAM_HAVE_LAPACK
     tail_ = nullptr;
 #endif
@@ -120,6 +125,15 @@ class IsotropicSolver final : public detail::OrderedSolver {
     }
     std::vector<int> identity(static_cast<std::size_t>(nb_));
     std::iota(identity.begin(), identity.end(), 0);
+    if (envelope_mode_) {
+      auto envelope = std::make_unique<detail::EnvelopeCholesky>();
+      const LinearSolverResult r = envelope->analyzeOrdered(scalar_, identity, label);
+      freeEntries();
+      if (!r.ok()) return r;
+      envelope_ = envelope.get();
+      inner_ = std::move(envelope);
+      return r;
+    }
     std::vector<int> parent, counts;
 #ifdef GRAPHSLAM_HAVE_LAPACK
     // tail-llt: a dense tail holding most of the flops (landmarks seen from most poses)
@@ -200,18 +214,13 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+    if (envelope_) {  // all d components in one pass, in H's interleaved layout permuted
+      return solveInterleaved(rhs, x,
+                              [this](double* b) { return envelope_->solveInterleaved(b, d_); });
+    }
 #ifdef GRAPHSLAM_HAVE_LAPACK
-    if (tail_) {  // all d components in one pass, in H's interleaved layout permuted
-      b_.resize(static_cast<std::size_t>(nb_) * d_);
-      for (int k = 0; k < nb_; ++k) {
-        for (int j = 0; j < d_; ++j) b_[k * d_ + j] = rhs[block_order_[k] * d_ + j];
-      }
-      const LinearSolverResult r = tail_->solveInterleaved(b_.data(), d_);
-      if (!r.ok()) return r;
-      for (int k = 0; k < nb_; ++k) {
-        for (int j = 0; j < d_; ++j) x[block_order_[k] * d_ + j] = b_[k * d_ + j];
-      }
-      return r;
+    if (tail_) {
+      return solveInterleaved(rhs, x, [this](double* b) { return tail_->solveInterleaved(b, d_); });
     }
 #endif
     // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
@@ -241,6 +250,22 @@ class IsotropicSolver final : public detail::OrderedSolver {
   }
 
  private:
+  /// The d components of every unknown in one pass: H's interleaved layout permuted to
+  /// B's order, solved in place by `solve_b`, and back.
+  template <typename SolveB>
+  LinearSolverResult solveInterleaved(const double* rhs, double* x, SolveB&& solve_b) {
+    b_.resize(static_cast<std::size_t>(nb_) * d_);
+    for (int k = 0; k < nb_; ++k) {
+      for (int j = 0; j < d_; ++j) b_[k * d_ + j] = rhs[block_order_[k] * d_ + j];
+    }
+    const LinearSolverResult r = solve_b(b_.data());
+    if (!r.ok()) return r;
+    for (int k = 0; k < nb_; ++k) {
+      for (int j = 0; j < d_; ++j) x[block_order_[k] * d_ + j] = b_[k * d_ + j];
+    }
+    return r;
+  }
+
   LinearSolverResult factorizeConformal(const double* h) {
     const int bad = detail::firstNonConformalColumn(h_, h);
     if (bad >= 0) {
@@ -378,6 +403,8 @@ class IsotropicSolver final : public detail::OrderedSolver {
 #ifdef GRAPHSLAM_HAVE_LAPACK
   detail::TailCholesky* tail_ = nullptr;  // inner_ when it is tail-llt
 #endif
+  bool envelope_mode_ = false;
+  detail::EnvelopeCholesky* envelope_ = nullptr;  // inner_ in envelope mode
   int nb_ = 0, d_ = 1;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   // H_s's entries in H's order: block row, block column, positions in H's values.
@@ -486,6 +513,10 @@ std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering) {
 
 std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering) {
   return std::make_unique<IsotropicSolver>(ordering, true);
+}
+
+std::unique_ptr<detail::OrderedSolver> makeEnvelopeSolver(Ordering ordering) {
+  return std::make_unique<IsotropicSolver>(ordering, false, true);
 }
 
 }  // namespace graphslam::solvers

@@ -133,6 +133,75 @@ std::vector<int> metisBlocks(const BlockGraph& g) {
 }
 #endif
 
+/// Reverse Cuthill-McKee (George and Liu): each connected component by breadth-first
+/// search from a pseudo-peripheral node (restarted from the lowest-degree node of the last
+/// level while that lengthens the search), each node's unvisited neighbours taken in
+/// increasing degree; the whole order reversed. Components in the order of their lowest
+/// node. Boost.Graph's cuthill_mckee_ordering gives the same kind of order but took
+/// 100-180 microseconds on a 400-node graph of 4471 edges (2d_linear_loop's H_s, with the
+/// compressed graph built for it) against 24 here, where the whole solve takes about 0.1 ms.
+std::vector<int> rcmBlocks(const BlockGraph& g) {
+  const int n = g.num_blocks;
+  std::vector<int> degree(static_cast<std::size_t>(n), 0);
+  for (int b = 0; b < n; ++b) {
+    for (int k = g.ptr[b]; k < g.ptr[b + 1]; ++k) degree[b] += g.idx[k] != b ? 1 : 0;
+  }
+  const auto by_degree = [&](int a, int b) {
+    return degree[a] < degree[b] || (degree[a] == degree[b] && a < b);
+  };
+  std::vector<int> level(static_cast<std::size_t>(n), -1);
+  // Breadth-first search of root's component into `out` (with `sorted`, each node's new
+  // neighbours in increasing degree: the Cuthill-McKee order); returns the depth of the
+  // last level, which starts at out[last_level]. Leaves `level` as it found it.
+  std::size_t last_level = 0;
+  const auto search = [&](int root, std::vector<int>& out, bool sorted) {
+    out.clear();
+    out.push_back(root);
+    level[root] = 0;
+    for (std::size_t h = 0; h < out.size(); ++h) {
+      const int v = out[h];
+      const std::size_t added = out.size();
+      for (int k = g.ptr[v]; k < g.ptr[v + 1]; ++k) {
+        const int u = g.idx[k];
+        if (level[u] < 0) {
+          level[u] = level[v] + 1;
+          out.push_back(u);
+        }
+      }
+      if (sorted) std::sort(out.begin() + static_cast<std::ptrdiff_t>(added), out.end(), by_degree);
+    }
+    const int depth = level[out.back()];
+    last_level = out.size() - 1;
+    while (last_level > 0 && level[out[last_level - 1]] == depth) --last_level;
+    for (int v : out) level[v] = -1;
+    return depth;
+  };
+  std::vector<int> order, reach;
+  order.reserve(static_cast<std::size_t>(n));
+  std::vector<char> placed(static_cast<std::size_t>(n), 0);
+  for (int seed = 0; seed < n; ++seed) {
+    if (placed[seed]) continue;
+    // Pseudo-peripheral root: from the seed, the lowest-degree node of the last level
+    // while that deepens the search.
+    int root = seed;
+    int depth = search(root, reach, false);
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      const int candidate = *std::min_element(
+          reach.begin() + static_cast<std::ptrdiff_t>(last_level), reach.end(), by_degree);
+      const int d = search(candidate, reach, false);
+      if (d <= depth) break;
+      depth = d;
+      root = candidate;
+    }
+    const std::size_t before = order.size();
+    search(root, reach, true);
+    order.insert(order.end(), reach.begin(), reach.end());
+    for (std::size_t k = before; k < order.size(); ++k) placed[order[k]] = 1;
+  }
+  std::reverse(order.begin(), order.end());
+  return order;
+}
+
 std::vector<int> orderBlockGraph(Ordering ordering, const BlockGraph& g) {
   switch (ordering) {
     case Ordering::kDefault:
@@ -155,6 +224,8 @@ std::vector<int> orderBlockGraph(Ordering ordering, const BlockGraph& g) {
 #else
       break;
 #endif
+    case Ordering::kRcm:
+      return rcmBlocks(g);
   }
   throw Error(std::string("ordering '") + toString(ordering) +
               "' is not available in this build (it needs SuiteSparse)");

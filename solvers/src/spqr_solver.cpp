@@ -23,6 +23,7 @@ int spqrOrdering(Ordering o) {
       return SPQR_ORDERING_METIS;
     case Ordering::kColamd:
     case Ordering::kDefault:
+    case Ordering::kRcm:  // not offered (SPQR orders J for fill)
       break;
   }
   return SPQR_ORDERING_COLAMD;

@@ -200,9 +200,10 @@ class Solvers_Conformance : public ::testing::TestWithParam<std::string> {
   }
   static bool jacobianForm(const LinearSolver& s) { return s.form() == SystemForm::kJacobian; }
   std::string name() const { return GetParam().substr(0, GetParam().find(':')); }
-  /// The isotropic solver takes only H = H_s (x) I: its systems are made so.
+  /// The isotropic and envelope solvers take only H = H_s (x) I: their systems are made so.
+  bool isotropicOnly() const { return name() == "isotropic" || name() == "envelope"; }
   Eigen::MatrixXd adapt(const Eigen::MatrixXd& m, const BlockSystem& sys) const {
-    return name() == "isotropic" ? sys.isotropic(m) : m;
+    return isotropicOnly() ? sys.isotropic(m) : m;
   }
 };
 
@@ -284,8 +285,8 @@ TEST_P(Solvers_Conformance, IndefiniteSystemIsAFailureNamingAColumn) {
   BlockSystem sys(12, 3, rng);
   ASSERT_TRUE(solver->analyze(sys.structure()).ok());
   Eigen::MatrixXd m = adapt(sys.randomSpd(rng), sys);
-  m(20, 20) = -50.0;                                         // column 20 belongs to block 6
-  if (name() == "isotropic") m(18, 18) = m(19, 19) = -50.0;  // still a multiple of I
+  m(20, 20) = -50.0;                                   // column 20 belongs to block 6
+  if (isotropicOnly()) m(18, 18) = m(19, 19) = -50.0;  // still a multiple of I
   const auto values = sys.values(m);
   LinearSolverResult r = solver->factorize(values.data());
   if (r.ok() && name() == "pcg") {  // conjugate gradients meet the negative curvature later
@@ -784,6 +785,76 @@ TEST(Solvers_Isotropic, SmallSystemsAreSolvedAndNameTheFailingVertex) {
       EXPECT_EQ(r.column, 2 * b) << spec << " " << b;
     }
   }
+}
+
+// A ring of vertices with a few chords (a loop), its vertices numbered at random: in that
+// order the envelope of H_s is wide, reverse Cuthill-McKee brings it back to a band. Every
+// ordering solves it (AMD and COLAMD give rows whose first columns are not increasing:
+// the kernel's rows j and j + 1 then start apart), for vertices of 1, 2 and 3 dimensions
+// and 123 vertices (a last, partial group of four rows); a negated diagonal block is a
+// failure at its vertex's first column.
+TEST(Solvers_Envelope, RingsInAnyOrderAreSolvedAndNameTheFailingVertex) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  std::mt19937 rng(5);
+  const int nb = 123;
+  std::vector<int> label(nb);
+  std::iota(label.begin(), label.end(), 0);
+  std::shuffle(label.begin(), label.end(), rng);
+  std::set<std::pair<int, int>> upper;
+  auto connect = [&](int a, int b) {
+    upper.insert({std::min(label[a], label[b]), std::max(label[a], label[b])});
+  };
+  for (int v = 0; v < nb; ++v) connect(v, (v + 1) % nb);
+  for (int v = 0; v < nb; v += 10) connect(v, (v + 3) % nb);
+  EXPECT_EQ(registry.create("envelope")->ordering(), Ordering::kRcm);
+  for (const int d : {1, 2, 3}) {
+    BlockSystem sys(nb, d, upper);
+    const Eigen::MatrixXd iso = sys.isotropic(sys.randomSpd(rng));
+    const Eigen::VectorXd rhs = Eigen::VectorXd::Random(sys.n());
+    const Eigen::VectorXd expected = iso.ldlt().solve(rhs);
+    std::size_t rcm_entries = 0, natural_entries = 0;
+    for (const char* spec : {"envelope:rcm", "envelope:natural", "envelope:amd", "envelope:colamd",
+                             "envelope:metis"}) {
+      if (!registry.contains(spec)) continue;  // METIS and COLAMD need SuiteSparse
+      SCOPED_TRACE(std::string(spec) + " d = " + std::to_string(d));
+      auto solver = registry.create(spec);
+      EXPECT_EQ(solver->name(), "envelope");
+      ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+      const auto values = sys.values(iso);
+      ASSERT_TRUE(solver->factorize(values.data()).ok());
+      Eigen::VectorXd x(sys.n());
+      ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+      EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10);
+      if (std::string(spec) == "envelope:rcm") rcm_entries = solver->factorNonZeros();
+      if (std::string(spec) == "envelope:natural") natural_entries = solver->factorNonZeros();
+      for (const int b : {0, 61, 122}) {  // block b's diagonal negated: still isotropic
+        Eigen::MatrixXd bad = iso;
+        bad.block(d * b, d * b, d, d) *= -1.0;
+        const auto bad_values = sys.values(bad);
+        const LinearSolverResult r = solver->factorize(bad_values.data());
+        EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << b;
+        EXPECT_EQ(r.column, d * b) << b;
+      }
+      // The factor of a good system again after a failure.
+      ASSERT_TRUE(solver->factorize(values.data()).ok());
+      ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok());
+      EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-10);
+    }
+    // A ring's band: each row of L starts at most a few vertices back (chords of three
+    // steps widen it); at random, rows reach far back.
+    EXPECT_LE(rcm_entries, static_cast<std::size_t>(d * nb * 10));
+    EXPECT_GT(natural_entries, 3 * rcm_entries);
+  }
+  // Not H_s (x) I: refused, naming a column.
+  std::mt19937 rng2(9);
+  BlockSystem sys(nb, 2, upper);
+  auto solver = registry.create("envelope");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  const auto general = sys.values(sys.randomSpd(rng2));
+  const LinearSolverResult r = solver->factorize(general.data());
+  EXPECT_FALSE(r.ok());
+  EXPECT_GE(r.column, 0);
 }
 
 // Poses in a chain, then landmarks each seen from most poses: in the natural order the

@@ -91,10 +91,11 @@ enum class Ordering {
   kAmd,      ///< approximate minimum degree on the block graph of H
   kColamd,   ///< column approximate minimum degree (on J's block pattern, or H's)
   kMetis,    ///< nested dissection by METIS (through CHOLMOD) on the block graph of H
+  kRcm,      ///< reverse Cuthill-McKee on the block graph of H (a small envelope, not fill)
 };
 
 [[nodiscard]] const char* toString(Ordering ordering);
-/// Parses "natural", "amd", "colamd", "metis" or "default"; false for anything else.
+/// Parses "natural", "amd", "colamd", "metis", "rcm" or "default"; false for anything else.
 [[nodiscard]] bool parseOrdering(const std::string& text, Ordering& ordering);
 
 /// Options every solver factory receives.
