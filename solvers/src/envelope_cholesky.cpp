@@ -110,24 +110,39 @@ LinearSolverResult EnvelopeCholesky::factorize(const double* a) {
 
 namespace {
 /// L y = b by rows, then L^T x = y by columns of L^T (rows of L), in place, with D
-/// values per unknown (D = 0: d of them, not fixed). The forward sums run in two
-/// accumulators per value.
+/// values per unknown (D = 0: d of them, not fixed). For a fixed D the forward sums run
+/// in two accumulators per value, the D values of an unknown together.
 template <int D>
 void solveRows(const double* v, const std::ptrdiff_t* offset, const int* start,
                const double* inv_diag, int n, double* b, int d) {
-  if constexpr (D > 0) d = D;
-  for (int i = 0; i < n; ++i) {
-    const double* li = v + offset[i];
-    double* bi = b + static_cast<std::ptrdiff_t>(i) * d;
-    for (int c = 0; c < d; ++c) {
-      double s0 = 0.0, s1 = 0.0;
+  if constexpr (D > 0) {
+    d = D;
+    for (int i = 0; i < n; ++i) {
+      const double* li = v + offset[i];
+      double* bi = b + static_cast<std::ptrdiff_t>(i) * D;
+      double s0[D] = {}, s1[D] = {};
       int k = start[i];
       for (; k + 1 < i; k += 2) {
-        s0 += li[k] * b[static_cast<std::ptrdiff_t>(k) * d + c];
-        s1 += li[k + 1] * b[static_cast<std::ptrdiff_t>(k + 1) * d + c];
+        const double* bk = b + static_cast<std::ptrdiff_t>(k) * D;
+        for (int c = 0; c < D; ++c) {
+          s0[c] += li[k] * bk[c];
+          s1[c] += li[k + 1] * bk[D + c];
+        }
       }
-      if (k < i) s0 += li[k] * b[static_cast<std::ptrdiff_t>(k) * d + c];
-      bi[c] = (bi[c] - (s0 + s1)) * inv_diag[i];
+      if (k < i) {
+        for (int c = 0; c < D; ++c) s0[c] += li[k] * b[static_cast<std::ptrdiff_t>(k) * D + c];
+      }
+      for (int c = 0; c < D; ++c) bi[c] = (bi[c] - (s0[c] + s1[c])) * inv_diag[i];
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      const double* li = v + offset[i];
+      double* bi = b + static_cast<std::ptrdiff_t>(i) * d;
+      for (int k = start[i]; k < i; ++k) {
+        const double* bk = b + static_cast<std::ptrdiff_t>(k) * d;
+        for (int c = 0; c < d; ++c) bi[c] -= li[k] * bk[c];
+      }
+      for (int c = 0; c < d; ++c) bi[c] *= inv_diag[i];
     }
   }
   for (int i = n - 1; i >= 0; --i) {
