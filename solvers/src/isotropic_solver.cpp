@@ -199,7 +199,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
     if (bad >= 0) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "isotropic: H is not H_s (x) I_" + std::to_string(d_) + ": a block of columns " +
+          name() + ": H is not H_s (x) I_" + std::to_string(d_) + ": a block of columns " +
               std::to_string(bad - bad % d_) + ".." + std::to_string(bad - bad % d_ + d_ - 1) +
               " is not a multiple of the identity",
           bad);
