@@ -44,11 +44,9 @@ LinearSolverResult EnvelopeCholesky::analyzeOrdered(const SparseStructure& s,
   }
   offset_.resize(static_cast<std::size_t>(n_));
   std::size_t stored = 0;
-  multiply_adds_ = 0.0;
   for (int i = 0; i < n_; ++i) {
     offset_[i] = static_cast<std::ptrdiff_t>(stored) - start_[i];
     stored += static_cast<std::size_t>(i - start_[i] + 1);
-    for (int j = first[i]; j <= i; ++j) multiply_adds_ += j - std::max(first[i], first[j]);
     if (stored > kMaxEnvelopeEntries) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,

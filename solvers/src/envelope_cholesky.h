@@ -43,8 +43,6 @@ class EnvelopeCholesky final : public OrderedSolver {
   LinearSolverResult solveInterleaved(double* b, int d) const;
   /// Entries of the envelope (diagonal included, the groups' padding not).
   std::size_t factorNonZeros() const override { return envelope_entries_; }
-  /// Multiply-adds of a factorisation (the dot products' lengths).
-  [[nodiscard]] double multiplyAdds() const { return multiply_adds_; }
 
  private:
   int n_ = 0;
@@ -53,7 +51,6 @@ class EnvelopeCholesky final : public OrderedSolver {
   std::vector<std::ptrdiff_t> dest_;    // where each stored entry of A goes in values_
   std::vector<double> values_, inv_diag_;
   std::size_t envelope_entries_ = 0;
-  double multiply_adds_ = 0.0;
   bool factorized_ = false;
   EnvelopeRowsFn rows_kernel_ = envelopeRowsKernel();
 };
