@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +17,48 @@
 
 namespace graphslam::solvers::detail {
 namespace {
+
+/// EnvelopeGroupFn's layout: the group's m rows, each stored from `from`, interleaved into
+/// tw[4k + t] for the columns k in [from, g + t] (the rows past m, zero).
+void gatherGroup(const double* values, const std::ptrdiff_t* offset, int g, int m, int from,
+                 double* tw) {
+  for (int t = 0; t < 4; ++t) {
+    const double* row = t < m ? values + offset[g + t] : nullptr;
+    for (int k = from; k <= g + t; ++k) tw[4 * k + t] = row != nullptr ? row[k] : 0.0;
+  }
+}
+
+/// EnvelopeGroupFn's end: the group's own triangle (gram[u][t] = the sum over the columns
+/// before the group of L(g + t, k) L(g + u, k)), then the rows written back. Returns -1 or
+/// the first row whose pivot is not positive.
+int finishGroup(double* values, const std::ptrdiff_t* offset, double* inv_diag, int g, int m,
+                int from, double* tw, const double (*gram)[4]) {
+  for (int u = 0; u < m; ++u) {
+    const std::ptrdiff_t cu = 4 * static_cast<std::ptrdiff_t>(g + u);
+    double pivot = tw[cu + u] - gram[u][u];
+    for (int q = 0; q < u; ++q) {
+      const double l = tw[4 * static_cast<std::ptrdiff_t>(g + q) + u];
+      pivot -= l * l;
+    }
+    if (!(pivot > 0.0) || !std::isfinite(pivot)) return g + u;
+    const double diagonal = std::sqrt(pivot);
+    tw[cu + u] = diagonal;
+    inv_diag[g + u] = 1.0 / diagonal;
+    for (int t = u + 1; t < m; ++t) {
+      double sum = gram[u][t];
+      for (int q = 0; q < u; ++q) {
+        const std::ptrdiff_t cq = 4 * static_cast<std::ptrdiff_t>(g + q);
+        sum += tw[cq + t] * tw[cq + u];
+      }
+      tw[cu + t] = (tw[cu + t] - sum) * inv_diag[g + u];
+    }
+  }
+  for (int t = 0; t < m; ++t) {
+    double* row = values + offset[g + t];
+    for (int k = from; k <= g + t; ++k) row[k] = tw[4 * k + t];
+  }
+  return -1;
+}
 
 /// Portable: Eigen's fixed-size products (SSE2 in the baseline build).
 template <int B>
@@ -254,81 +297,83 @@ __attribute__((target("avx2,fma"))) void pairProductAvx2(const int* ptr, const i
   _mm_storeu_pd(pq, _mm_add_pd(_mm_loadu_pd(pq), dot));
 }
 
-/// The four sums of a0..a3 in one vector.
-__attribute__((target("avx2,fma"))) inline __m256d sums4(__m256d a0, __m256d a1, __m256d a2,
-                                                         __m256d a3) {
-  const __m256d h01 = _mm256_hadd_pd(a0, a1), h23 = _mm256_hadd_pd(a2, a3);
-  return _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20),
-                       _mm256_permute2f128_pd(h01, h23, 0x31));
+/// Entry k of the four interleaved rows of EnvelopeGroupFn.
+__attribute__((target("avx2,fma"))) inline __m256d interleaved(const double* tw, int k) {
+  return _mm256_loadu_pd(tw + 4 * static_cast<std::ptrdiff_t>(k));
 }
 
-/// EnvelopeRowsFn with 256-bit vectors: two rows j, j + 1 at a time against the four rows,
-/// eight sums sharing each load; the second row's entry in column j is folded in after.
-__attribute__((target("avx2,fma"))) void envelopeRowsAvx2(double* values,
+/// EnvelopeGroupFn with 256-bit vectors: the group's four rows interleaved in `work`
+/// (entry k of the four rows one vector), each L(j) a broadcast against it, so that a
+/// sum over k is four sums at once and a new entry of the four rows one vector store;
+/// two rows j, j + 1 per pass, two accumulators each.
+__attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
                                                           const std::ptrdiff_t* offset,
-                                                          const int* start, const double* inv_diag,
-                                                          int r, int from) {
-  double* rows[4];
-  for (int t = 0; t < 4; ++t) rows[t] = values + offset[r + t];
+                                                          const int* start, double* inv_diag, int g,
+                                                          int m, double* work) {
+  const int from = start[g];
+  double* tw = work - static_cast<std::ptrdiff_t>(from) * 4;  // tw[4k + t]: row g + t, entry k
+  gatherGroup(values, offset, g, m, from, tw);
   int j = from;
-  for (; j + 1 < r; j += 2) {
+  for (; j + 1 < g; j += 2) {
     const double* lj = values + offset[j];
     const double* lj1 = values + offset[j + 1];
     // Row j + 1 may start at j + 1 (then L(j + 1, j) = 0 and only row j's sums run).
     const int sa = std::max(from, start[j]), sb = std::max(from, start[j + 1]);
     const int s = std::min(std::max(sa, sb), j);
+    __m256d a0 = _mm256_setzero_pd(), a1 = a0, b0 = a0, b1 = a0;
+    for (int k = sa; k < s; ++k)
+      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + k), a0);
+    for (int k = sb; k < s; ++k)
+      b0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj1 + k), b0);
+    int k = s;
+    for (; k + 2 <= j; k += 2) {
+      const __m256d x0 = interleaved(tw, k), x1 = interleaved(tw, k + 1);
+      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
+      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
+      a1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj + k + 1), a1);
+      b1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj1 + k + 1), b1);
+    }
+    if (k < j) {
+      const __m256d x0 = interleaved(tw, k);
+      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
+      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
+    }
+    const __m256d v = _mm256_mul_pd(_mm256_sub_pd(interleaved(tw, j), _mm256_add_pd(a0, a1)),
+                                    _mm256_set1_pd(inv_diag[j]));
+    _mm256_storeu_pd(tw + 4 * static_cast<std::ptrdiff_t>(j), v);
     const double l10 = start[j + 1] <= j ? lj1[j] : 0.0;
-    __m256d a0 = _mm256_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
-    __m256d b0 = a0, b1 = a0, b2 = a0, b3 = a0;
-    int k = s;
-    for (; k + 4 <= j; k += 4) {
-      const __m256d v = _mm256_loadu_pd(lj + k), w = _mm256_loadu_pd(lj1 + k);
-      const __m256d x0 = _mm256_loadu_pd(rows[0] + k), x1 = _mm256_loadu_pd(rows[1] + k);
-      const __m256d x2 = _mm256_loadu_pd(rows[2] + k), x3 = _mm256_loadu_pd(rows[3] + k);
-      a0 = _mm256_fmadd_pd(x0, v, a0);
-      a1 = _mm256_fmadd_pd(x1, v, a1);
-      a2 = _mm256_fmadd_pd(x2, v, a2);
-      a3 = _mm256_fmadd_pd(x3, v, a3);
-      b0 = _mm256_fmadd_pd(x0, w, b0);
-      b1 = _mm256_fmadd_pd(x1, w, b1);
-      b2 = _mm256_fmadd_pd(x2, w, b2);
-      b3 = _mm256_fmadd_pd(x3, w, b3);
-    }
-    alignas(32) double d[4], e[4];
-    _mm256_store_pd(d, sums4(a0, a1, a2, a3));
-    _mm256_store_pd(e, sums4(b0, b1, b2, b3));
-    for (int t = 0; t < 4; ++t) {
-      const double* x = rows[t];
-      for (int q = sa; q < s; ++q) d[t] += x[q] * lj[q];   // the part only one of j, j + 1
-      for (int q = sb; q < s; ++q) e[t] += x[q] * lj1[q];  // stores
-      for (int q = k; q < j; ++q) {
-        d[t] += x[q] * lj[q];
-        e[t] += x[q] * lj1[q];
-      }
-      const double v = (x[j] - d[t]) * inv_diag[j];
-      rows[t][j] = v;
-      rows[t][j + 1] = (x[j + 1] - e[t] - v * l10) * inv_diag[j + 1];
-    }
+    const __m256d e = _mm256_fmadd_pd(v, _mm256_set1_pd(l10), _mm256_add_pd(b0, b1));
+    _mm256_storeu_pd(
+        tw + 4 * static_cast<std::ptrdiff_t>(j + 1),
+        _mm256_mul_pd(_mm256_sub_pd(interleaved(tw, j + 1), e), _mm256_set1_pd(inv_diag[j + 1])));
   }
-  for (; j < r; ++j) {
+  if (j < g) {
     const double* lj = values + offset[j];
-    const int s = std::max(from, start[j]);
-    __m256d a0 = _mm256_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
-    int k = s;
-    for (; k + 4 <= j; k += 4) {
-      const __m256d v = _mm256_loadu_pd(lj + k);
-      a0 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[0] + k), v, a0);
-      a1 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[1] + k), v, a1);
-      a2 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[2] + k), v, a2);
-      a3 = _mm256_fmadd_pd(_mm256_loadu_pd(rows[3] + k), v, a3);
+    __m256d a0 = _mm256_setzero_pd();
+    for (int k = std::max(from, start[j]); k < j; ++k) {
+      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + k), a0);
     }
-    alignas(32) double d[4];
-    _mm256_store_pd(d, sums4(a0, a1, a2, a3));
-    for (int t = 0; t < 4; ++t) {
-      for (int q = k; q < j; ++q) d[t] += rows[t][q] * lj[q];
-      rows[t][j] = (rows[t][j] - d[t]) * inv_diag[j];
-    }
+    _mm256_storeu_pd(
+        tw + 4 * static_cast<std::ptrdiff_t>(j),
+        _mm256_mul_pd(_mm256_sub_pd(interleaved(tw, j), a0), _mm256_set1_pd(inv_diag[j])));
   }
+  // The four rows' products over the columns before the group: gram[u][t] = sum_k L(g + t, k)
+  // L(g + u, k).
+  alignas(32) double gram[4][4];
+  __m256d c0 = _mm256_setzero_pd(), c1 = c0, c2 = c0, c3 = c0;
+  for (int k = from; k < g; ++k) {
+    const __m256d x = interleaved(tw, k);
+    const double* xk = tw + 4 * static_cast<std::ptrdiff_t>(k);
+    c0 = _mm256_fmadd_pd(x, _mm256_broadcast_sd(xk), c0);
+    c1 = _mm256_fmadd_pd(x, _mm256_broadcast_sd(xk + 1), c1);
+    c2 = _mm256_fmadd_pd(x, _mm256_broadcast_sd(xk + 2), c2);
+    c3 = _mm256_fmadd_pd(x, _mm256_broadcast_sd(xk + 3), c3);
+  }
+  _mm256_store_pd(gram[0], c0);
+  _mm256_store_pd(gram[1], c1);
+  _mm256_store_pd(gram[2], c2);
+  _mm256_store_pd(gram[3], c3);
+  return finishGroup(values, offset, inv_diag, g, m, from, tw, gram);
 }
 #endif
 
@@ -359,19 +404,28 @@ void pairProductPortable(const int* ptr, const int* col, const double* val, int 
   }
 }
 
-/// EnvelopeRowsFn, portable: the four rows' sums for one row j at a time.
-void envelopeRowsPortable(double* values, const std::ptrdiff_t* offset, const int* start,
-                          const double* inv_diag, int r, int from) {
-  double* rows[4];
-  for (int t = 0; t < 4; ++t) rows[t] = values + offset[r + t];
-  for (int j = from; j < r; ++j) {
+/// EnvelopeGroupFn, portable: the same interleaved layout, the four rows' sums for one row
+/// j at a time.
+int envelopeGroupPortable(double* values, const std::ptrdiff_t* offset, const int* start,
+                          double* inv_diag, int g, int m, double* work) {
+  const int from = start[g];
+  double* tw = work - static_cast<std::ptrdiff_t>(from) * 4;
+  gatherGroup(values, offset, g, m, from, tw);
+  for (int j = from; j < g; ++j) {
     const double* lj = values + offset[j];
-    double d[4] = {};
+    double sum[4] = {};
     for (int k = std::max(from, start[j]); k < j; ++k) {
-      for (int t = 0; t < 4; ++t) d[t] += rows[t][k] * lj[k];
+      for (int t = 0; t < 4; ++t) sum[t] += tw[4 * k + t] * lj[k];
     }
-    for (int t = 0; t < 4; ++t) rows[t][j] = (rows[t][j] - d[t]) * inv_diag[j];
+    for (int t = 0; t < 4; ++t) tw[4 * j + t] = (tw[4 * j + t] - sum[t]) * inv_diag[j];
   }
+  double gram[4][4] = {};
+  for (int k = from; k < g; ++k) {
+    for (int u = 0; u < 4; ++u) {
+      for (int t = 0; t < 4; ++t) gram[u][t] += tw[4 * k + t] * tw[4 * k + u];
+    }
+  }
+  return finishGroup(values, offset, inv_diag, g, m, from, tw, gram);
 }
 
 }  // namespace
@@ -421,11 +475,11 @@ PairProductFn pairProductKernel() {
   return pairProductPortable;
 }
 
-EnvelopeRowsFn envelopeRowsKernel() {
+EnvelopeGroupFn envelopeGroupKernel() {
 #ifdef GRAPHSLAM_HAVE_AVX2_KERNELS
-  if (useAvx2()) return envelopeRowsAvx2;
+  if (useAvx2()) return envelopeGroupAvx2;
 #endif
-  return envelopeRowsPortable;
+  return envelopeGroupPortable;
 }
 
 }  // namespace graphslam::solvers::detail

@@ -44,12 +44,15 @@ struct SolveKernels {
 using PairProductFn = void (*)(const int* ptr, const int* col, const double* val, int m,
                                const double* p, double* q, double* pq);
 
-/// envelope-llt's rows r..r+3, each stored from column `from` (entry k of row i at
-/// values[offset[i] + k], row j's first stored column start[j]), against every row j in
-/// [from, r), in increasing j: on entry L(r+t, j) holds A(r+t, j); on exit
-///   L(r+t, j) = (A(r+t, j) - sum_{k = max(from, start[j])}^{j-1} L(r+t, k) L(j, k)) * inv_diag[j].
-using EnvelopeRowsFn = void (*)(double* values, const std::ptrdiff_t* offset, const int* start,
-                                const double* inv_diag, int r, int from);
+/// The envelope factorisation's group of rows g..g+m-1 (m <= 4), each stored from column
+/// from = start[g] (entry k of row i at values[offset[i] + k], row j's first stored column
+/// start[j]): on entry they hold A's entries (zeros before a row's own first non-zero), the
+/// rows j < g hold L's and inv_diag[j] = 1 / L(j, j); on exit the group's rows hold L's,
+///   L(g+t, j) = (A(g+t, j) - sum_{k = max(from, start[j])}^{j-1} L(g+t, k) L(j, k)) / L(j, j),
+/// and inv_diag has their entries. `work`: 4 (g + 4 - from) doubles. Returns -1, or the
+/// first row whose pivot is not positive (the group's rows are then not written).
+using EnvelopeGroupFn = int (*)(double* values, const std::ptrdiff_t* offset, const int* start,
+                                double* inv_diag, int g, int m, double* work);
 
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();
@@ -58,6 +61,6 @@ using EnvelopeRowsFn = void (*)(double* values, const std::ptrdiff_t* offset, co
 [[nodiscard]] EliminateFn eliminateKernel(int block_size);
 [[nodiscard]] SolveKernels solveKernels(int block_size);
 [[nodiscard]] PairProductFn pairProductKernel();
-[[nodiscard]] EnvelopeRowsFn envelopeRowsKernel();
+[[nodiscard]] EnvelopeGroupFn envelopeGroupKernel();
 
 }  // namespace graphslam::solvers::detail

@@ -327,16 +327,17 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "isotropic",
       "H = H_s (x) I_d (isotropic linear SLAM: every block a multiple of the identity): "
       "Cholesky of the scalar H_s on the block graph (CHOLMOD supernodal when its predicted "
-      "work is large, else Eigen SimplicialLDLT), d right-hand sides; fails on other systems",
+      "work is large, else a dense-tail or up-looking LL^T), d right-hand sides; fails on "
+      "other systems",
       SystemForm::kNormalEquations, orderings,
       [](const LinearSolverOptions& o) { return makeIsotropicSolver(o.ordering); });
   std::vector<Ordering> envelope_orderings{Ordering::kRcm};
   envelope_orderings.insert(envelope_orderings.end(), orderings.begin(), orderings.end());
   registry.registerSolver(
       "envelope",
-      "H = H_s (x) I_d (as isotropic): envelope (profile) Cholesky of the scalar H_s, each "
-      "row of L stored from its first non-zero, in an order that keeps the envelope small "
-      "(reverse Cuthill-McKee by default), d right-hand sides; fails on other systems",
+      "envelope (profile) Cholesky, each row of L stored from its first non-zero, in a block "
+      "order that keeps the envelope small (reverse Cuthill-McKee by default); of the scalar "
+      "H_s with d right-hand sides when H = H_s (x) I_d, of H itself otherwise",
       SystemForm::kNormalEquations, envelope_orderings,
       [](const LinearSolverOptions& o) { return makeEnvelopeSolver(o.ordering); });
   registry.registerSolver(

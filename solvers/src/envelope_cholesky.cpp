@@ -9,97 +9,58 @@
 namespace graphslam::solvers::detail {
 
 namespace {
-/// Rows factorised together by the kernel (EnvelopeRowsFn).
+/// Rows factorised together by the kernel (EnvelopeGroupFn).
 constexpr int kGroup = 4;
 }  // namespace
 
-LinearSolverResult EnvelopeCholesky::analyzeOrdered(const SparseStructure& s,
-                                                    std::vector<int> order, Ordering /*label*/) {
-  factorized_ = false;
-  n_ = s.n;
+LinearSolverResult EnvelopeCholesky::layout(const std::vector<int>& first) {
+  laid_out_ = factorized_ = false;
+  n_ = static_cast<int>(first.size());
   values_.clear();
-  for (int k = 0; k < n_; ++k) {
-    if (order[k] != k) {
-      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                         "envelope-llt factorises its matrix in its own order");
-    }
-  }
-  if (s.lower) {
-    return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                       "envelope-llt takes the upper triangle");
-  }
-  // Row i of the lower triangle is column i of the upper one: its first row is f_i.
-  std::vector<int> first(static_cast<std::size_t>(n_));
   envelope_entries_ = 0;
-  for (int i = 0; i < n_; ++i) {
-    const int p = s.col_ptr[i];
-    first[i] = p < s.col_ptr[i + 1] ? std::min(s.row_idx[p], i) : i;
-    envelope_entries_ += static_cast<std::size_t>(i - first[i] + 1);
-  }
-  start_.assign(static_cast<std::size_t>(n_), 0);
+  for (int i = 0; i < n_; ++i) envelope_entries_ += static_cast<std::size_t>(i - first[i] + 1);
+  start_.resize(static_cast<std::size_t>(n_));
+  std::size_t widest = 0;  // of the groups, in columns
   for (int g = 0; g < n_; g += kGroup) {
     const int end = std::min(n_, g + kGroup);
     const int from = *std::min_element(first.begin() + g, first.begin() + end);
     for (int i = g; i < end; ++i) start_[i] = from;
+    widest = std::max(widest, static_cast<std::size_t>(g + kGroup - from));
   }
+  work_.assign(widest * kGroup, 0.0);
   offset_.resize(static_cast<std::size_t>(n_));
-  std::size_t stored = 0;
+  stored_ = 0;
   for (int i = 0; i < n_; ++i) {
-    offset_[i] = static_cast<std::ptrdiff_t>(stored) - start_[i];
-    stored += static_cast<std::size_t>(i - start_[i] + 1);
-    if (stored > kMaxEnvelopeEntries) {
+    offset_[i] = static_cast<std::ptrdiff_t>(stored_) - start_[i];
+    stored_ += static_cast<std::size_t>(i - start_[i] + 1);
+    if (stored_ > kMaxEnvelopeEntries) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "envelope-llt: the envelope of this order exceeds " +
-              std::to_string(kMaxEnvelopeEntries) +
+          "envelope: the envelope of this order exceeds " + std::to_string(kMaxEnvelopeEntries) +
               " entries (an ordering that keeps it small, rcm, or another solver)");
     }
   }
-  dest_.resize(s.nnz());
-  for (int c = 0; c < n_; ++c) {
-    for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) {
-      const int r = s.row_idx[p];
-      // Upper entry (r, c), r <= c: row c, column r. Entries below the diagonal (a
-      // structure that stores them) are not read.
-      dest_[static_cast<std::size_t>(p)] = r <= c ? offset_[c] + r : -1;
-    }
-  }
-  values_.assign(stored, 0.0);
   inv_diag_.assign(static_cast<std::size_t>(n_), 0.0);
+  laid_out_ = true;
   return LinearSolverResult::success();
 }
 
-LinearSolverResult EnvelopeCholesky::factorize(const double* a) {
+void EnvelopeCholesky::clear() {
   factorized_ = false;
-  if (offset_.size() != static_cast<std::size_t>(n_) || (n_ > 0 && values_.empty())) {
-    return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
+  values_.assign(stored_, 0.0);
+}
+
+LinearSolverResult EnvelopeCholesky::factorize() {
+  factorized_ = false;
+  if (!laid_out_ || values_.size() != stored_) {
+    return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not laid out");
   }
-  std::fill(values_.begin(), values_.end(), 0.0);
-  for (std::size_t p = 0; p < dest_.size(); ++p) {
-    if (dest_[p] >= 0) values_[static_cast<std::size_t>(dest_[p])] = a[p];
-  }
-  double* v = values_.data();
   for (int g = 0; g < n_; g += kGroup) {
-    const bool whole = g + kGroup <= n_;
-    // The entries of the group's rows before it, four rows at a time.
-    if (whole) rows_kernel_(v, offset_.data(), start_.data(), inv_diag_.data(), g, start_[g]);
-    // The group's own triangle (every entry of a last, partial group).
-    for (int i = g; i < std::min(n_, g + kGroup); ++i) {
-      double* li = v + offset_[i];
-      for (int j = whole ? g : start_[i]; j < i; ++j) {
-        const double* lj = v + offset_[j];
-        double sum = 0.0;
-        for (int k = std::max(start_[i], start_[j]); k < j; ++k) sum += li[k] * lj[k];
-        li[j] = (li[j] - sum) * inv_diag_[j];
-      }
-      double pivot = li[i];
-      for (int k = start_[i]; k < i; ++k) pivot -= li[k] * li[k];
-      if (!(pivot > 0.0) || !std::isfinite(pivot)) {
-        return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
-                                           "non-positive pivot", i);
-      }
-      li[i] = std::sqrt(pivot);
-      inv_diag_[i] = 1.0 / li[i];
+    const int bad = group_kernel_(values_.data(), offset_.data(), start_.data(), inv_diag_.data(),
+                                  g, std::min(kGroup, n_ - g), work_.data());
+    if (bad >= 0) {
+      return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
+                                         "non-positive pivot", bad);
     }
   }
   factorized_ = true;
@@ -173,11 +134,6 @@ LinearSolverResult EnvelopeCholesky::solveInterleaved(double* b, int d) const {
   }
   if (!allFinite(b, n_ * d)) return notFinite();
   return LinearSolverResult::success();
-}
-
-LinearSolverResult EnvelopeCholesky::solve(const double* rhs, double* x) {
-  std::copy(rhs, rhs + n_, x);
-  return solveInterleaved(x, 1);
 }
 
 }  // namespace graphslam::solvers::detail

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Private to graphslam::solvers: envelope-llt, the envelope (profile) Cholesky LL^T of
-// the envelope solver (George and Liu's envelope method).
+// Private to graphslam::solvers: the envelope (profile) Cholesky LL^T of the envelope
+// solver (George and Liu's envelope method), on a scalar matrix in its own order.
 //
 // Row i of L is stored densely from its first non-zero column f_i to the diagonal: the
 // fill of a Cholesky factor stays inside A's envelope (the columns between f_i and i of
@@ -9,13 +9,13 @@
 //   L(i, j) = (A(i, j) - sum_{k = max(f_i, f_j)}^{j-1} L(i, k) L(j, k)) / L(j, j).
 // Rows are taken four at a time, each of the four stored from the group's smallest f_i
 // (zeros before its own), so that one pass over the rows j before the group serves all
-// four (EnvelopeRowsFn, block_kernels.h: AVX2/FMA at run time). An order that keeps the
+// four: interleaved in a work buffer, a sum over k is four sums at once (EnvelopeGroupFn,
+// block_kernels.h: AVX2/FMA at run time). An order that keeps the
 // envelope small (reverse Cuthill-McKee) makes this the cheapest factorisation of
 // systems whose graph is a band or a ring (a pose chain with its landmarks, a loop).
 #pragma once
 
 #include <cstddef>
-#include <string>
 #include <vector>
 
 #include "block_kernels.h"
@@ -24,35 +24,39 @@
 namespace graphslam::solvers::detail {
 
 /// Envelopes above this many stored entries (512 MiB of doubles) are declined at
-/// analysis: the order does not suit the method.
+/// layout: the order does not suit the method.
 inline constexpr std::size_t kMaxEnvelopeEntries = std::size_t{1} << 26;
 
-class EnvelopeCholesky final : public OrderedSolver {
+class EnvelopeCholesky {
  public:
-  std::string name() const override { return "envelope-llt"; }
-
-  /// `s`: a scalar matrix's upper triangle (rows sorted, diagonal stored), factorised in
-  /// its own order; `order` must be the identity.
-  LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
-                                    Ordering label) override;
-  /// `a`: the values of the analysed structure.
-  LinearSolverResult factorize(const double* a) override;
-  LinearSolverResult solve(const double* rhs, double* x) override;
+  /// Lays L out for rows whose first non-zero column is first[i] (<= i); fails when the
+  /// envelope exceeds kMaxEnvelopeEntries. Values are allocated by clear().
+  [[nodiscard]] LinearSolverResult layout(const std::vector<int>& first);
+  /// Where A(i, j), first[i] <= j <= i, is written before factorize().
+  [[nodiscard]] std::ptrdiff_t position(int i, int j) const { return offset_[i] + j; }
+  /// Zeroes the stored values; A's entries are then written at position() into values().
+  void clear();
+  [[nodiscard]] double* values() { return values_.data(); }
+  /// Factorises A in place. A non-positive pivot fails naming its row in `column`.
+  [[nodiscard]] LinearSolverResult factorize();
   /// Solves L L^T X = B for `d` right-hand sides interleaved (B(i, c) at b[i d + c]),
   /// in place.
-  LinearSolverResult solveInterleaved(double* b, int d) const;
+  [[nodiscard]] LinearSolverResult solveInterleaved(double* b, int d) const;
+  [[nodiscard]] int size() const { return n_; }
+  [[nodiscard]] bool laidOut() const { return laid_out_; }
   /// Entries of the envelope (diagonal included, the groups' padding not).
-  std::size_t factorNonZeros() const override { return envelope_entries_; }
+  [[nodiscard]] std::size_t entries() const { return envelope_entries_; }
 
  private:
   int n_ = 0;
+  bool laid_out_ = false, factorized_ = false;
   std::vector<int> start_;              // first stored column of every row
   std::vector<std::ptrdiff_t> offset_;  // row i's entry k at values_[offset_[i] + k]
-  std::vector<std::ptrdiff_t> dest_;    // where each stored entry of A goes in values_
+  std::size_t stored_ = 0;              // values_ entries, the groups' padding included
   std::vector<double> values_, inv_diag_;
   std::size_t envelope_entries_ = 0;
-  bool factorized_ = false;
-  EnvelopeRowsFn rows_kernel_ = envelopeRowsKernel();
+  std::vector<double> work_;  // the kernel's interleaved group
+  EnvelopeGroupFn group_kernel_ = envelopeGroupKernel();
 };
 
 }  // namespace graphslam::solvers::detail

@@ -23,7 +23,6 @@
 #include <vector>
 
 #include "common.h"
-#include "envelope_cholesky.h"
 #include "ordering.h"
 #include "symbolic.h"
 #include "tail_cholesky.h"
@@ -54,20 +53,16 @@ constexpr double kRelativeTolerance = 1e-12;
 
 class IsotropicSolver final : public detail::OrderedSolver {
  public:
-  /// `envelope`: H_s is always factorised by envelope-llt (the envelope solver).
-  explicit IsotropicSolver(Ordering ordering, bool conformal = false, bool envelope = false)
-      : ordering_(ordering), conformal_(conformal), envelope_mode_(envelope) {}
+  explicit IsotropicSolver(Ordering ordering, bool conformal = false)
+      : ordering_(ordering), conformal_(conformal) {}
 
-  std::string name() const override {
-    return conformal_ ? "conformal" : envelope_mode_ ? "envelope" : "isotropic";
-  }
+  std::string name() const override { return conformal_ ? "conformal" : "isotropic"; }
   Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;
     inner_.reset();
-    envelope_ = nullptr;
 #ifdef GRAPHSLAM_HAVE_LAPACK
     tail_ = nullptr;
 #endif
@@ -125,15 +120,6 @@ class IsotropicSolver final : public detail::OrderedSolver {
     }
     std::vector<int> identity(static_cast<std::size_t>(nb_));
     std::iota(identity.begin(), identity.end(), 0);
-    if (envelope_mode_) {
-      auto envelope = std::make_unique<detail::EnvelopeCholesky>();
-      const LinearSolverResult r = envelope->analyzeOrdered(scalar_, identity, label);
-      freeEntries();
-      if (!r.ok()) return r;
-      envelope_ = envelope.get();
-      inner_ = std::move(envelope);
-      return r;
-    }
     std::vector<int> parent, counts;
 #ifdef GRAPHSLAM_HAVE_LAPACK
     // tail-llt: a dense tail holding most of the flops (landmarks seen from most poses)
@@ -214,10 +200,6 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult solve(const double* rhs, double* x) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    if (envelope_) {  // all d components in one pass, in H's interleaved layout permuted
-      return solveInterleaved(rhs, x,
-                              [this](double* b) { return envelope_->solveInterleaved(b, d_); });
-    }
 #ifdef GRAPHSLAM_HAVE_LAPACK
     if (tail_) {
       return solveInterleaved(rhs, x, [this](double* b) { return tail_->solveInterleaved(b, d_); });
@@ -403,8 +385,6 @@ class IsotropicSolver final : public detail::OrderedSolver {
 #ifdef GRAPHSLAM_HAVE_LAPACK
   detail::TailCholesky* tail_ = nullptr;  // inner_ when it is tail-llt
 #endif
-  bool envelope_mode_ = false;
-  detail::EnvelopeCholesky* envelope_ = nullptr;  // inner_ in envelope mode
   int nb_ = 0, d_ = 1;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   // H_s's entries in H's order: block row, block column, positions in H's values.
@@ -513,10 +493,6 @@ std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering) {
 
 std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering) {
   return std::make_unique<IsotropicSolver>(ordering, true);
-}
-
-std::unique_ptr<detail::OrderedSolver> makeEnvelopeSolver(Ordering ordering) {
-  return std::make_unique<IsotropicSolver>(ordering, false, true);
 }
 
 }  // namespace graphslam::solvers

@@ -134,12 +134,14 @@ std::vector<int> metisBlocks(const BlockGraph& g) {
 #endif
 
 /// Reverse Cuthill-McKee (George and Liu): each connected component by breadth-first
-/// search from a pseudo-peripheral node (restarted from the lowest-degree node of the last
-/// level while that lengthens the search), each node's unvisited neighbours taken in
+/// search from a pseudo-peripheral node, each node's unvisited neighbours taken in
 /// increasing degree; the whole order reversed. Components in the order of their lowest
-/// node. Boost.Graph's cuthill_mckee_ordering gives the same kind of order but took
-/// 100-180 microseconds on a 400-node graph of 4471 edges (2d_linear_loop's H_s, with the
-/// compressed graph built for it) against 24 here, where the whole solve takes about 0.1 ms.
+/// node. The root: from that node, the lowest-degree node of the last level while that
+/// deepens the search; a candidate as deep as the root is as good a root, and its search
+/// (every search sorts) is the order, which saves one search. Boost.Graph's
+/// cuthill_mckee_ordering gives the same kind of order but took 100-180 microseconds on a
+/// 400-node graph of 4471 edges (2d_linear_loop's H_s, with the compressed graph built for
+/// it) against 24 here, where the whole solve takes about 0.1 ms.
 std::vector<int> rcmBlocks(const BlockGraph& g) {
   const int n = g.num_blocks;
   std::vector<int> degree(static_cast<std::size_t>(n), 0);
@@ -150,53 +152,61 @@ std::vector<int> rcmBlocks(const BlockGraph& g) {
     return degree[a] < degree[b] || (degree[a] == degree[b] && a < b);
   };
   std::vector<int> level(static_cast<std::size_t>(n), -1);
-  // Breadth-first search of root's component into `out` (with `sorted`, each node's new
+  // Breadth-first search of root's component into `out` (n entries; each node's new
   // neighbours in increasing degree: the Cuthill-McKee order); returns the depth of the
-  // last level, which starts at out[last_level]. Leaves `level` as it found it.
-  std::size_t last_level = 0;
-  const auto search = [&](int root, std::vector<int>& out, bool sorted) {
-    out.clear();
-    out.push_back(root);
+  // last level and sets `size` and `last_level` (where it starts in `out`). Leaves `level`
+  // as it found it. A neighbour is appended unconditionally and kept when it was new (no
+  // branch on the visited test, which a dense graph makes unpredictable).
+  std::size_t size = 0, last_level = 0;
+  const auto search = [&](int root, std::vector<int>& out) {
+    out[0] = root;
+    size = 1;
     level[root] = 0;
-    for (std::size_t h = 0; h < out.size(); ++h) {
+    for (std::size_t h = 0; h < size; ++h) {
       const int v = out[h];
-      const std::size_t added = out.size();
+      const int next = level[v] + 1;
+      const std::size_t added = size;
       for (int k = g.ptr[v]; k < g.ptr[v + 1]; ++k) {
         const int u = g.idx[k];
-        if (level[u] < 0) {
-          level[u] = level[v] + 1;
-          out.push_back(u);
-        }
+        const bool fresh = level[u] < 0;
+        out[size] = u;
+        level[u] = fresh ? next : level[u];
+        size += fresh ? 1 : 0;
       }
-      if (sorted) std::sort(out.begin() + static_cast<std::ptrdiff_t>(added), out.end(), by_degree);
+      if (size - added > 1) {
+        std::sort(out.begin() + static_cast<std::ptrdiff_t>(added),
+                  out.begin() + static_cast<std::ptrdiff_t>(size), by_degree);
+      }
     }
-    const int depth = level[out.back()];
-    last_level = out.size() - 1;
+    const int depth = level[out[size - 1]];
+    last_level = size - 1;
     while (last_level > 0 && level[out[last_level - 1]] == depth) --last_level;
-    for (int v : out) level[v] = -1;
+    for (std::size_t k = 0; k < size; ++k) level[out[k]] = -1;
     return depth;
   };
-  std::vector<int> order, reach;
+  std::vector<int> order;
   order.reserve(static_cast<std::size_t>(n));
+  // One spare entry: a search writes a neighbour at out[size] before it knows whether it
+  // keeps it.
+  std::vector<int> best(static_cast<std::size_t>(n) + 1), probe(best.size());
   std::vector<char> placed(static_cast<std::size_t>(n), 0);
   for (int seed = 0; seed < n; ++seed) {
     if (placed[seed]) continue;
-    // Pseudo-peripheral root: from the seed, the lowest-degree node of the last level
-    // while that deepens the search.
-    int root = seed;
-    int depth = search(root, reach, false);
+    int depth = search(seed, best);
+    std::size_t best_size = size, best_last = last_level;
     for (int attempt = 0; attempt < 8; ++attempt) {
-      const int candidate = *std::min_element(
-          reach.begin() + static_cast<std::ptrdiff_t>(last_level), reach.end(), by_degree);
-      const int d = search(candidate, reach, false);
-      if (d <= depth) break;
+      const int candidate =
+          *std::min_element(best.begin() + static_cast<std::ptrdiff_t>(best_last),
+                            best.begin() + static_cast<std::ptrdiff_t>(best_size), by_degree);
+      const int d = search(candidate, probe);
+      if (d < depth) break;
+      best.swap(probe);
+      best_last = last_level;
+      if (d == depth) break;
       depth = d;
-      root = candidate;
     }
-    const std::size_t before = order.size();
-    search(root, reach, true);
-    order.insert(order.end(), reach.begin(), reach.end());
-    for (std::size_t k = before; k < order.size(); ++k) placed[order[k]] = 1;
+    order.insert(order.end(), best.begin(), best.begin() + static_cast<std::ptrdiff_t>(best_size));
+    for (std::size_t k = order.size() - best_size; k < order.size(); ++k) placed[order[k]] = 1;
   }
   std::reverse(order.begin(), order.end());
   return order;
@@ -233,62 +243,72 @@ std::vector<int> orderBlockGraph(Ordering ordering, const BlockGraph& g) {
 
 }  // namespace
 
-BlockGraph blockGraph(const SparseStructure& s) {
-  // H's upper block column b lists its blocks (r, b), r <= b, d_r rows each, rows sorted
-  // (every column of a block has the same pattern: the first is read). Column b of the
-  // symmetric graph is those r, then every c > b whose column holds block (b, c), in
-  // increasing c: sorted, without a sort. The upper rows are read once (a walk whose
-  // steps depend on the block sizes), then counted and transposed from that list.
-  const int nb = s.num_blocks;
-  const auto block = blockOfColumn(s.block_starts, nb, s.n);
-  const int d = nb > 0 ? s.block_starts[1] - s.block_starts[0] : 1;
-  bool uniform = true;  // every block of dimension d: fixed steps
-  for (int b = 1; b < nb && uniform; ++b) uniform = s.block_starts[b + 1] - s.block_starts[b] == d;
-  std::vector<int> upper_ptr(static_cast<std::size_t>(nb) + 1, 0);
-  std::vector<int> upper;  // block rows (<= b) of every block column b
-  if (uniform) upper.reserve(s.nnz() / static_cast<std::size_t>(d * d));
-  for (int b = 0; b < nb; ++b) {
+namespace {
+
+/// Calls f(r, b) for every block (r, b), r <= b, of H's upper triangle, block column by
+/// block column, rows ascending (every column of a block has the same pattern: the first
+/// is read). D: every block of dimension D (0: d at run time); D = -1: dimensions differ,
+/// `block` maps a column to its block.
+template <int D, typename F>
+void forUpperBlocks(const SparseStructure& s, int d, const std::vector<int>& block, F&& f) {
+  if constexpr (D > 0) d = D;
+  for (int b = 0; b < s.num_blocks; ++b) {
     const int c = s.block_starts[b];
     const int end = s.col_ptr[c + 1];
-    if (uniform) {
-      for (int k = s.col_ptr[c]; k < end; k += d) {
-        const int rb = block[s.row_idx[k]];
-        if (rb > b) break;  // entries below the diagonal block (not stored in upper form)
-        upper.push_back(rb);
-      }
-    } else {
-      for (int k = s.col_ptr[c]; k < end;) {
-        const int rb = block[s.row_idx[k]];
-        if (rb > b) break;
-        upper.push_back(rb);
+    for (int k = s.col_ptr[c]; k < end;) {
+      int rb;
+      if constexpr (D < 0) {
+        rb = block[s.row_idx[k]];
         k += s.block_starts[rb + 1] - s.block_starts[rb];
+      } else {
+        rb = s.row_idx[k] / d;
+        k += d;
       }
+      if (rb > b) break;  // entries below the diagonal block (not stored in upper form)
+      f(rb, b);
     }
-    upper_ptr[b + 1] = static_cast<int>(upper.size());
   }
+}
+
+/// blockGraph for blocks of dimension D (forUpperBlocks).
+template <int D>
+BlockGraph blockGraphOf(const SparseStructure& s, int d) {
+  // Column b of the symmetric graph is the rows r <= b of H's upper block column b, then
+  // every c > b whose column holds block (b, c), in increasing c. Filled block column by
+  // block column, each column receives its own rows first, then the later columns in
+  // increasing order: sorted, without a sort.
+  const int nb = s.num_blocks;
+  const std::vector<int> block =
+      D < 0 ? blockOfColumn(s.block_starts, nb, s.n) : std::vector<int>();
   BlockGraph g;
   g.num_blocks = nb;
   g.ptr.assign(static_cast<std::size_t>(nb) + 1, 0);
-  for (int b = 0; b < nb; ++b) {
-    g.ptr[b + 1] += upper_ptr[b + 1] - upper_ptr[b];
-    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) {
-      if (upper[k] != b) ++g.ptr[upper[k] + 1];
-    }
-  }
+  int* count = g.ptr.data() + 1;
+  forUpperBlocks<D>(s, d, block, [count](int r, int b) {
+    ++count[b];
+    if (r != b) ++count[r];
+  });
   for (int b = 0; b < nb; ++b) g.ptr[b + 1] += g.ptr[b];
   g.idx.resize(static_cast<std::size_t>(g.ptr[nb]));
   std::vector<int> next(g.ptr.begin(), g.ptr.end() - 1);
-  // Upper parts first (each column's own rows), then the transposed entries in column
-  // order: column rb receives b's in increasing b, after its own upper rows.
-  for (int b = 0; b < nb; ++b) {
-    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) g.idx[next[b]++] = upper[k];
-  }
-  for (int b = 0; b < nb; ++b) {
-    for (int k = upper_ptr[b]; k < upper_ptr[b + 1]; ++k) {
-      if (upper[k] != b) g.idx[next[upper[k]]++] = b;
-    }
-  }
+  int* idx = g.idx.data();
+  int* at = next.data();
+  forUpperBlocks<D>(s, d, block, [idx, at](int r, int b) {
+    idx[at[b]++] = r;
+    if (r != b) idx[at[r]++] = b;
+  });
   return g;
+}
+
+}  // namespace
+
+BlockGraph blockGraph(const SparseStructure& s) {
+  const int nb = s.num_blocks;
+  const int d = nb > 0 ? s.block_starts[1] - s.block_starts[0] : 1;
+  bool uniform = true;  // every block of dimension d: fixed steps
+  for (int b = 1; b < nb && uniform; ++b) uniform = s.block_starts[b + 1] - s.block_starts[b] == d;
+  if (!uniform) return blockGraphOf<-1>(s, d);
+  return withFixedSize(d, [&](auto size) { return blockGraphOf<decltype(size)::value>(s, d); });
 }
 
 BlockGraph blockGraph(const JacobianStructure& s) {
