@@ -314,38 +314,54 @@ __attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
   double* tw = work - static_cast<std::ptrdiff_t>(from) * 4;  // tw[4k + t]: row g + t, entry k
   gatherGroup(values, offset, g, m, from, tw);
   int j = from;
+  // The last pair's entries stay in registers (pv: column j - 2, pe: j - 1) and enter
+  // the next pair's sums last: the chain from one pair to the next is two multiply-adds
+  // (no store and reload), with the division by L(j, j) folded into them.
+  __m256d pv = _mm256_setzero_pd(), pe = pv;
+  bool have_prev = false;
   for (; j + 1 < g; j += 2) {
     const double* lj = values + offset[j];
     const double* lj1 = values + offset[j + 1];
     // Row j + 1 may start at j + 1 (then L(j + 1, j) = 0 and only row j's sums run).
     const int sa = std::max(from, start[j]), sb = std::max(from, start[j + 1]);
-    const int s = std::min(std::max(sa, sb), j);
+    const int cut = have_prev ? j - 2 : j;  // columns k < cut are read from `work`
+    const int s = std::min(std::max(sa, sb), cut);
     __m256d a0 = _mm256_setzero_pd(), a1 = a0, b0 = a0, b1 = a0;
     for (int k = sa; k < s; ++k)
       a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + k), a0);
     for (int k = sb; k < s; ++k)
       b0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj1 + k), b0);
     int k = s;
-    for (; k + 2 <= j; k += 2) {
+    for (; k + 2 <= cut; k += 2) {
       const __m256d x0 = interleaved(tw, k), x1 = interleaved(tw, k + 1);
       a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
       b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
       a1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj + k + 1), a1);
       b1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj1 + k + 1), b1);
     }
-    if (k < j) {
+    if (k < cut) {
       const __m256d x0 = interleaved(tw, k);
       a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
       b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
     }
-    const __m256d v = _mm256_mul_pd(_mm256_sub_pd(interleaved(tw, j), _mm256_add_pd(a0, a1)),
-                                    _mm256_set1_pd(inv_diag[j]));
-    _mm256_storeu_pd(tw + 4 * static_cast<std::ptrdiff_t>(j), v);
+    __m256d a = _mm256_add_pd(a0, a1), b = _mm256_add_pd(b0, b1);
+    if (have_prev) {
+      if (j - 2 >= sa) a = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj + j - 2), a);
+      if (j - 2 >= sb) b = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj1 + j - 2), b);
+      if (j - 1 >= sa) a = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj + j - 1), a);
+      if (j - 1 >= sb) b = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj1 + j - 1), b);
+    }
+    // v = (A(., j) - a) / L(j, j); e = (A(., j + 1) - b - v L(j + 1, j)) / L(j + 1, j + 1).
+    const __m256d dj = _mm256_set1_pd(inv_diag[j]), dj1 = _mm256_set1_pd(inv_diag[j + 1]);
     const double l10 = start[j + 1] <= j ? lj1[j] : 0.0;
-    const __m256d e = _mm256_fmadd_pd(v, _mm256_set1_pd(l10), _mm256_add_pd(b0, b1));
-    _mm256_storeu_pd(
-        tw + 4 * static_cast<std::ptrdiff_t>(j + 1),
-        _mm256_mul_pd(_mm256_sub_pd(interleaved(tw, j + 1), e), _mm256_set1_pd(inv_diag[j + 1])));
+    const __m256d v = _mm256_fnmadd_pd(a, dj, _mm256_mul_pd(interleaved(tw, j), dj));
+    const __m256d e0 = _mm256_fnmadd_pd(b, dj1, _mm256_mul_pd(interleaved(tw, j + 1), dj1));
+    const __m256d e = _mm256_fnmadd_pd(v, _mm256_set1_pd(l10 * inv_diag[j + 1]), e0);
+    _mm256_storeu_pd(tw + 4 * static_cast<std::ptrdiff_t>(j), v);
+    _mm256_storeu_pd(tw + 4 * static_cast<std::ptrdiff_t>(j + 1), e);
+    pv = v;
+    pe = e;
+    have_prev = true;
   }
   if (j < g) {
     const double* lj = values + offset[j];
