@@ -18,21 +18,10 @@
 namespace graphslam::solvers::detail {
 namespace {
 
-/// EnvelopeGroupFn's layout: the group's m rows, each stored from `from`, interleaved into
-/// tw[4k + t] for the columns k in [from, g + t] (the rows past m, zero).
-void gatherGroup(const double* values, const std::ptrdiff_t* offset, int g, int m, int from,
-                 double* tw) {
-  for (int t = 0; t < 4; ++t) {
-    const double* row = t < m ? values + offset[g + t] : nullptr;
-    for (int k = from; k <= g + t; ++k) tw[4 * k + t] = row != nullptr ? row[k] : 0.0;
-  }
-}
-
 /// EnvelopeGroupFn's end: the group's own triangle (gram[u][t] = the sum over the columns
-/// before the group of L(g + t, k) L(g + u, k)), then the rows written back. Returns -1 or
-/// the first row whose pivot is not positive.
-int finishGroup(double* values, const std::ptrdiff_t* offset, double* inv_diag, int g, int m,
-                int from, double* tw, const double (*gram)[4]) {
+/// before the group of L(g + t, k) L(g + u, k)). Returns -1 or the first row whose pivot
+/// is not positive.
+int finishGroup(double* inv_diag, int g, int m, double* tw, const double (*gram)[4]) {
   for (int u = 0; u < m; ++u) {
     const std::ptrdiff_t cu = 4 * static_cast<std::ptrdiff_t>(g + u);
     double pivot = tw[cu + u] - gram[u][u];
@@ -52,10 +41,6 @@ int finishGroup(double* values, const std::ptrdiff_t* offset, double* inv_diag, 
       }
       tw[cu + t] = (tw[cu + t] - sum) * inv_diag[g + u];
     }
-  }
-  for (int t = 0; t < m; ++t) {
-    double* row = values + offset[g + t];
-    for (int k = from; k <= g + t; ++k) row[k] = tw[4 * k + t];
   }
   return -1;
 }
@@ -302,17 +287,16 @@ __attribute__((target("avx2,fma"))) inline __m256d interleaved(const double* tw,
   return _mm256_loadu_pd(tw + 4 * static_cast<std::ptrdiff_t>(k));
 }
 
-/// EnvelopeGroupFn with 256-bit vectors: the group's four rows interleaved in `work`
-/// (entry k of the four rows one vector), each L(j) a broadcast against it, so that a
-/// sum over k is four sums at once and a new entry of the four rows one vector store;
-/// two rows j, j + 1 per pass, two accumulators each.
+/// EnvelopeGroupFn with 256-bit vectors: entry k of the group's four rows is one vector,
+/// each L(j, k) a broadcast against it, so that a sum over k is four sums at once and a
+/// new entry of the four rows one vector store; two rows j, j + 1 per pass, two
+/// accumulators each.
 __attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
-                                                          const std::ptrdiff_t* offset,
+                                                          const std::ptrdiff_t* group_offset,
                                                           const int* start, double* inv_diag, int g,
-                                                          int m, double* work) {
+                                                          int m) {
   const int from = start[g];
-  double* tw = work - static_cast<std::ptrdiff_t>(from) * 4;  // tw[4k + t]: row g + t, entry k
-  gatherGroup(values, offset, g, m, from, tw);
+  double* tw = values + group_offset[g >> 2];  // tw[4k + t]: L(g + t, k)
   int j = from;
   // The last pair's entries stay in registers (pv: column j - 2, pe: j - 1) and enter
   // the next pair's sums last: the chain from one pair to the next is two multiply-adds
@@ -320,40 +304,40 @@ __attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
   __m256d pv = _mm256_setzero_pd(), pe = pv;
   bool have_prev = false;
   for (; j + 1 < g; j += 2) {
-    const double* lj = values + offset[j];
-    const double* lj1 = values + offset[j + 1];
+    const double* lj = envelopeRow(values, group_offset, j);
+    const double* lj1 = envelopeRow(values, group_offset, j + 1);
     // Row j + 1 may start at j + 1 (then L(j + 1, j) = 0 and only row j's sums run).
     const int sa = std::max(from, start[j]), sb = std::max(from, start[j + 1]);
     const int cut = have_prev ? j - 2 : j;  // columns k < cut are read from `work`
     const int s = std::min(std::max(sa, sb), cut);
     __m256d a0 = _mm256_setzero_pd(), a1 = a0, b0 = a0, b1 = a0;
     for (int k = sa; k < s; ++k)
-      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + k), a0);
+      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + 4 * k), a0);
     for (int k = sb; k < s; ++k)
-      b0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj1 + k), b0);
+      b0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj1 + 4 * k), b0);
     int k = s;
     for (; k + 2 <= cut; k += 2) {
       const __m256d x0 = interleaved(tw, k), x1 = interleaved(tw, k + 1);
-      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
-      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
-      a1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj + k + 1), a1);
-      b1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj1 + k + 1), b1);
+      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + 4 * k), a0);
+      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + 4 * k), b0);
+      a1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj + 4 * (k + 1)), a1);
+      b1 = _mm256_fmadd_pd(x1, _mm256_broadcast_sd(lj1 + 4 * (k + 1)), b1);
     }
     if (k < cut) {
       const __m256d x0 = interleaved(tw, k);
-      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + k), a0);
-      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + k), b0);
+      a0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj + 4 * k), a0);
+      b0 = _mm256_fmadd_pd(x0, _mm256_broadcast_sd(lj1 + 4 * k), b0);
     }
     __m256d a = _mm256_add_pd(a0, a1), b = _mm256_add_pd(b0, b1);
     if (have_prev) {
-      if (j - 2 >= sa) a = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj + j - 2), a);
-      if (j - 2 >= sb) b = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj1 + j - 2), b);
-      if (j - 1 >= sa) a = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj + j - 1), a);
-      if (j - 1 >= sb) b = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj1 + j - 1), b);
+      if (j - 2 >= sa) a = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj + 4 * (j - 2)), a);
+      if (j - 2 >= sb) b = _mm256_fmadd_pd(pv, _mm256_broadcast_sd(lj1 + 4 * (j - 2)), b);
+      if (j - 1 >= sa) a = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj + 4 * (j - 1)), a);
+      if (j - 1 >= sb) b = _mm256_fmadd_pd(pe, _mm256_broadcast_sd(lj1 + 4 * (j - 1)), b);
     }
     // v = (A(., j) - a) / L(j, j); e = (A(., j + 1) - b - v L(j + 1, j)) / L(j + 1, j + 1).
     const __m256d dj = _mm256_set1_pd(inv_diag[j]), dj1 = _mm256_set1_pd(inv_diag[j + 1]);
-    const double l10 = start[j + 1] <= j ? lj1[j] : 0.0;
+    const double l10 = start[j + 1] <= j ? lj1[4 * j] : 0.0;
     const __m256d v = _mm256_fnmadd_pd(a, dj, _mm256_mul_pd(interleaved(tw, j), dj));
     const __m256d e0 = _mm256_fnmadd_pd(b, dj1, _mm256_mul_pd(interleaved(tw, j + 1), dj1));
     const __m256d e = _mm256_fnmadd_pd(v, _mm256_set1_pd(l10 * inv_diag[j + 1]), e0);
@@ -364,10 +348,10 @@ __attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
     have_prev = true;
   }
   if (j < g) {
-    const double* lj = values + offset[j];
+    const double* lj = envelopeRow(values, group_offset, j);
     __m256d a0 = _mm256_setzero_pd();
     for (int k = std::max(from, start[j]); k < j; ++k) {
-      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + k), a0);
+      a0 = _mm256_fmadd_pd(interleaved(tw, k), _mm256_broadcast_sd(lj + 4 * k), a0);
     }
     _mm256_storeu_pd(
         tw + 4 * static_cast<std::ptrdiff_t>(j),
@@ -389,7 +373,7 @@ __attribute__((target("avx2,fma"))) int envelopeGroupAvx2(double* values,
   _mm256_store_pd(gram[1], c1);
   _mm256_store_pd(gram[2], c2);
   _mm256_store_pd(gram[3], c3);
-  return finishGroup(values, offset, inv_diag, g, m, from, tw, gram);
+  return finishGroup(inv_diag, g, m, tw, gram);
 }
 #endif
 
@@ -420,18 +404,16 @@ void pairProductPortable(const int* ptr, const int* col, const double* val, int 
   }
 }
 
-/// EnvelopeGroupFn, portable: the same interleaved layout, the four rows' sums for one row
-/// j at a time.
-int envelopeGroupPortable(double* values, const std::ptrdiff_t* offset, const int* start,
-                          double* inv_diag, int g, int m, double* work) {
+/// EnvelopeGroupFn, portable: the four rows' sums for one row j at a time.
+int envelopeGroupPortable(double* values, const std::ptrdiff_t* group_offset, const int* start,
+                          double* inv_diag, int g, int m) {
   const int from = start[g];
-  double* tw = work - static_cast<std::ptrdiff_t>(from) * 4;
-  gatherGroup(values, offset, g, m, from, tw);
+  double* tw = values + group_offset[g >> 2];
   for (int j = from; j < g; ++j) {
-    const double* lj = values + offset[j];
+    const double* lj = envelopeRow(values, group_offset, j);
     double sum[4] = {};
     for (int k = std::max(from, start[j]); k < j; ++k) {
-      for (int t = 0; t < 4; ++t) sum[t] += tw[4 * k + t] * lj[k];
+      for (int t = 0; t < 4; ++t) sum[t] += tw[4 * k + t] * lj[4 * k];
     }
     for (int t = 0; t < 4; ++t) tw[4 * j + t] = (tw[4 * j + t] - sum[t]) * inv_diag[j];
   }
@@ -441,7 +423,7 @@ int envelopeGroupPortable(double* values, const std::ptrdiff_t* offset, const in
       for (int t = 0; t < 4; ++t) gram[u][t] += tw[4 * k + t] * tw[4 * k + u];
     }
   }
-  return finishGroup(values, offset, inv_diag, g, m, from, tw, gram);
+  return finishGroup(inv_diag, g, m, tw, gram);
 }
 
 }  // namespace

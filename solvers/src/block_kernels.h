@@ -44,15 +44,22 @@ struct SolveKernels {
 using PairProductFn = void (*)(const int* ptr, const int* col, const double* val, int m,
                                const double* p, double* q, double* pq);
 
-/// The envelope factorisation's group of rows g..g+m-1 (m <= 4), each stored from column
-/// from = start[g] (entry k of row i at values[offset[i] + k], row j's first stored column
-/// start[j]): on entry they hold A's entries (zeros before a row's own first non-zero), the
-/// rows j < g hold L's and inv_diag[j] = 1 / L(j, j); on exit the group's rows hold L's,
-///   L(g+t, j) = (A(g+t, j) - sum_{k = max(from, start[j])}^{j-1} L(g+t, k) L(j, k)) / L(j, j),
-/// and inv_diag has their entries. `work`: 4 (g + 4 - from) doubles. Returns -1, or the
-/// first row whose pivot is not positive (the group's rows are then not written).
-using EnvelopeGroupFn = int (*)(double* values, const std::ptrdiff_t* offset, const int* start,
-                                double* inv_diag, int g, int m, double* work);
+/// The envelope factorisation's storage: rows in groups of four, g = 4G..4G+3, each
+/// stored from the group's first column start[g]; L(i, k) at
+/// values[group_offset[i / 4] + 4 k + i % 4] (entry k of a group's four rows together).
+inline const double* envelopeRow(const double* values, const std::ptrdiff_t* group_offset, int i) {
+  return values + group_offset[i >> 2] + (i & 3);  // L(i, k) at [4 k]
+}
+
+/// The envelope factorisation's group of rows g..g+m-1 (g a multiple of 4, m <= 4): on
+/// entry they hold A's entries (zeros before a row's own first non-zero and in the rows
+/// past m), the rows j < g hold L's and inv_diag[j] = 1 / L(j, j); on exit the group's
+/// rows hold L's,
+///   L(g+t, j) = (A(g+t, j) - sum_{k = max(start[g], start[j])}^{j-1} L(g+t, k) L(j, k)) / L(j, j),
+/// and inv_diag has their entries. Returns -1, or the first row whose pivot is not
+/// positive.
+using EnvelopeGroupFn = int (*)(double* values, const std::ptrdiff_t* group_offset,
+                                const int* start, double* inv_diag, int g, int m);
 
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();

@@ -20,19 +20,15 @@ LinearSolverResult EnvelopeCholesky::layout(const std::vector<int>& first) {
   envelope_entries_ = 0;
   for (int i = 0; i < n_; ++i) envelope_entries_ += static_cast<std::size_t>(i - first[i] + 1);
   start_.resize(static_cast<std::size_t>(n_));
-  std::size_t widest = 0;  // of the groups, in columns
+  group_offset_.resize(static_cast<std::size_t>((n_ + kGroup - 1) / kGroup));
+  stored_ = 0;
   for (int g = 0; g < n_; g += kGroup) {
     const int end = std::min(n_, g + kGroup);
     const int from = *std::min_element(first.begin() + g, first.begin() + end);
     for (int i = g; i < end; ++i) start_[i] = from;
-    widest = std::max(widest, static_cast<std::size_t>(g + kGroup - from));
-  }
-  work_.assign(widest * kGroup, 0.0);
-  offset_.resize(static_cast<std::size_t>(n_));
-  stored_ = 0;
-  for (int i = 0; i < n_; ++i) {
-    offset_[i] = static_cast<std::ptrdiff_t>(stored_) - start_[i];
-    stored_ += static_cast<std::size_t>(i - start_[i] + 1);
+    // Columns from..g+3 of four rows (a last, partial group too: its missing rows zero).
+    group_offset_[g / kGroup] = static_cast<std::ptrdiff_t>(stored_) - kGroup * from;
+    stored_ += static_cast<std::size_t>(kGroup) * static_cast<std::size_t>(g + kGroup - from);
     if (stored_ > kMaxEnvelopeEntries) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
@@ -56,8 +52,8 @@ LinearSolverResult EnvelopeCholesky::factorize() {
     return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not laid out");
   }
   for (int g = 0; g < n_; g += kGroup) {
-    const int bad = group_kernel_(values_.data(), offset_.data(), start_.data(), inv_diag_.data(),
-                                  g, std::min(kGroup, n_ - g), work_.data());
+    const int bad = group_kernel_(values_.data(), group_offset_.data(), start_.data(),
+                                  inv_diag_.data(), g, std::min(kGroup, n_ - g));
     if (bad >= 0) {
       return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                          "non-positive pivot", bad);
@@ -68,49 +64,59 @@ LinearSolverResult EnvelopeCholesky::factorize() {
 }
 
 namespace {
-/// L y = b by rows, then L^T x = y by columns of L^T (rows of L), in place, with D
-/// values per unknown (D = 0: d of them, not fixed). For a fixed D the forward sums run
-/// in two accumulators per value, the D values of an unknown together.
+/// L y = b, then L^T x = y, in place, with D values per unknown (D = 0: d of them, not
+/// fixed), a group of four rows at a time: its sums over the columns before it (forward)
+/// and its updates of them (backward) read entry k of the four rows together.
 template <int D>
-void solveRows(const double* v, const std::ptrdiff_t* offset, const int* start,
-               const double* inv_diag, int n, double* b, int d) {
-  if constexpr (D > 0) {
-    d = D;
-    for (int i = 0; i < n; ++i) {
-      const double* li = v + offset[i];
-      double* bi = b + static_cast<std::ptrdiff_t>(i) * D;
-      double s0[D] = {}, s1[D] = {};
-      int k = start[i];
-      for (; k + 1 < i; k += 2) {
-        const double* bk = b + static_cast<std::ptrdiff_t>(k) * D;
-        for (int c = 0; c < D; ++c) {
-          s0[c] += li[k] * bk[c];
-          s1[c] += li[k + 1] * bk[D + c];
-        }
+void solveGroups(const double* v, const std::ptrdiff_t* group_offset, const int* start,
+                 const double* inv_diag, int n, double* b, int d) {
+  if constexpr (D > 0) d = D;
+  const auto at = [b, d](int i, int c) -> double& {
+    return b[static_cast<std::ptrdiff_t>(i) * d + c];
+  };
+  std::vector<double> dynamic(D > 0 ? 0 : static_cast<std::size_t>(4 * d));
+  double fixed[4 * (D > 0 ? D : 1)];
+  double* acc = D > 0 ? fixed : dynamic.data();  // acc[t d + c]
+  for (int g = 0; g < n; g += 4) {
+    const int m = std::min(4, n - g);
+    const double* tw = v + group_offset[g >> 2];  // tw[4k + t] = L(g + t, k)
+    std::fill(acc, acc + 4 * d, 0.0);
+    for (int k = start[g]; k < g; ++k) {
+      for (int c = 0; c < d; ++c) {
+        const double bk = at(k, c);
+        for (int t = 0; t < 4; ++t) acc[t * d + c] += tw[4 * k + t] * bk;
       }
-      if (k < i) {
-        for (int c = 0; c < D; ++c) s0[c] += li[k] * b[static_cast<std::ptrdiff_t>(k) * D + c];
-      }
-      for (int c = 0; c < D; ++c) bi[c] = (bi[c] - (s0[c] + s1[c])) * inv_diag[i];
     }
-  } else {
-    for (int i = 0; i < n; ++i) {
-      const double* li = v + offset[i];
-      double* bi = b + static_cast<std::ptrdiff_t>(i) * d;
-      for (int k = start[i]; k < i; ++k) {
-        const double* bk = b + static_cast<std::ptrdiff_t>(k) * d;
-        for (int c = 0; c < d; ++c) bi[c] -= li[k] * bk[c];
+    for (int t = 0; t < m; ++t) {
+      for (int c = 0; c < d; ++c) {
+        double y = at(g + t, c) - acc[t * d + c];
+        for (int q = 0; q < t; ++q) y -= tw[4 * (g + q) + t] * at(g + q, c);
+        at(g + t, c) = y * inv_diag[g + t];
       }
-      for (int c = 0; c < d; ++c) bi[c] *= inv_diag[i];
     }
   }
-  for (int i = n - 1; i >= 0; --i) {
-    const double* li = v + offset[i];
-    double* bi = b + static_cast<std::ptrdiff_t>(i) * d;
-    for (int c = 0; c < d; ++c) bi[c] *= inv_diag[i];
-    for (int k = start[i]; k < i; ++k) {
-      double* bk = b + static_cast<std::ptrdiff_t>(k) * d;
-      for (int c = 0; c < d; ++c) bk[c] -= li[k] * bi[c];
+  for (int g = (n - 1) / 4 * 4; g >= 0; g -= 4) {
+    const int m = std::min(4, n - g);
+    const double* tw = v + group_offset[g >> 2];
+    for (int t = m - 1; t >= 0; --t) {
+      for (int c = 0; c < d; ++c) {
+        double x = at(g + t, c);
+        for (int q = t + 1; q < m; ++q) x -= tw[4 * (g + t) + q] * at(g + q, c);
+        at(g + t, c) = x * inv_diag[g + t];
+      }
+    }
+    for (int t = m; t < 4; ++t) {  // the missing rows of a partial group: L is zero there
+      for (int c = 0; c < d; ++c) acc[t * d + c] = 0.0;
+    }
+    for (int t = 0; t < m; ++t) {
+      for (int c = 0; c < d; ++c) acc[t * d + c] = at(g + t, c);
+    }
+    for (int k = start[g]; k < g; ++k) {
+      for (int c = 0; c < d; ++c) {
+        double sum = 0.0;
+        for (int t = 0; t < 4; ++t) sum += tw[4 * k + t] * acc[t * d + c];
+        at(k, c) -= sum;
+      }
     }
   }
 }
@@ -120,8 +126,8 @@ LinearSolverResult EnvelopeCholesky::solveInterleaved(double* b, int d) const {
   if (!factorized_)
     return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
   const auto run = [&](auto size) {
-    solveRows<decltype(size)::value>(values_.data(), offset_.data(), start_.data(),
-                                     inv_diag_.data(), n_, b, d);
+    solveGroups<decltype(size)::value>(values_.data(), group_offset_.data(), start_.data(),
+                                       inv_diag_.data(), n_, b, d);
   };
   if (d == 1) {
     run(std::integral_constant<int, 1>{});

@@ -9,8 +9,9 @@
 //   L(i, j) = (A(i, j) - sum_{k = max(f_i, f_j)}^{j-1} L(i, k) L(j, k)) / L(j, j).
 // Rows are taken four at a time, each of the four stored from the group's smallest f_i
 // (zeros before its own), so that one pass over the rows j before the group serves all
-// four: interleaved in a work buffer, a sum over k is four sums at once (EnvelopeGroupFn,
-// block_kernels.h: AVX2/FMA at run time). An order that keeps the
+// four; the four rows are stored interleaved (entry k of the four together), so that a
+// sum over k is four sums at once (EnvelopeGroupFn, block_kernels.h: AVX2/FMA at run
+// time), and so are the solves' sums over a group. An order that keeps the
 // envelope small (reverse Cuthill-McKee) makes this the cheapest factorisation of
 // systems whose graph is a band or a ring (a pose chain with its landmarks, a loop).
 #pragma once
@@ -33,7 +34,9 @@ class EnvelopeCholesky {
   /// envelope exceeds kMaxEnvelopeEntries. Values are allocated by clear().
   [[nodiscard]] LinearSolverResult layout(const std::vector<int>& first);
   /// Where A(i, j), first[i] <= j <= i, is written before factorize().
-  [[nodiscard]] std::ptrdiff_t position(int i, int j) const { return offset_[i] + j; }
+  [[nodiscard]] std::ptrdiff_t position(int i, int j) const {
+    return group_offset_[i >> 2] + 4 * static_cast<std::ptrdiff_t>(j) + (i & 3);
+  }
   /// Zeroes the stored values; A's entries are then written at position() into values().
   void clear();
   [[nodiscard]] double* values() { return values_.data(); }
@@ -50,12 +53,12 @@ class EnvelopeCholesky {
  private:
   int n_ = 0;
   bool laid_out_ = false, factorized_ = false;
-  std::vector<int> start_;              // first stored column of every row
-  std::vector<std::ptrdiff_t> offset_;  // row i's entry k at values_[offset_[i] + k]
-  std::size_t stored_ = 0;              // values_ entries, the groups' padding included
+  std::vector<int> start_;  // first stored column of every row (its group's)
+  // L(i, k) at values_[group_offset_[i / 4] + 4 k + i % 4] (envelopeRow, block_kernels.h).
+  std::vector<std::ptrdiff_t> group_offset_;
+  std::size_t stored_ = 0;  // values_ entries, the groups' padding included
   std::vector<double> values_, inv_diag_;
   std::size_t envelope_entries_ = 0;
-  std::vector<double> work_;  // the kernel's interleaved group
   EnvelopeGroupFn group_kernel_ = envelopeGroupKernel();
 };
 
