@@ -37,6 +37,7 @@ class EnvelopeSolver final : public detail::OrderedSolver {
                                     Ordering label) override {
     ordering_ = label;
     active_ = nullptr;
+    analysed_ = false;
     scalar_ = detail::EnvelopeCholesky();
     h_ = s;
     nb_ = s.num_blocks;
@@ -84,7 +85,10 @@ class EnvelopeSolver final : public detail::OrderedSolver {
               " does not store complete blocks (as SparseStructure asks)",
           incomplete);
     }
-    if (!uniform_) return LinearSolverResult::success();
+    if (!uniform_) {
+      analysed_ = true;
+      return LinearSolverResult::success();
+    }
     // H_s's envelope, and where each of its entries goes (its value at the block's (0, 0)).
     LinearSolverResult r = iso_.layout(block_first_);
     if (!r.ok()) return r;
@@ -96,12 +100,13 @@ class EnvelopeSolver final : public detail::OrderedSolver {
       *dest++ = iso_.position(std::max(pos[r], pos[c]), std::min(pos[r], pos[c]));
       *source++ = k;
     }));
+    analysed_ = true;
     return r;
   }
 
   LinearSolverResult factorize(const double* h) override {
     active_ = nullptr;
-    if (order_.size() != static_cast<std::size_t>(h_.n)) {
+    if (!analysed_) {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
     }
     if (uniform_ && detail::firstNonIsotropicColumn(h_, h) < 0) {
@@ -218,6 +223,7 @@ class EnvelopeSolver final : public detail::OrderedSolver {
   Ordering ordering_;
   SparseStructure h_;  // H's structure (its arrays live until the next analysis)
   int nb_ = 0, d_ = 1;
+  bool analysed_ = false;   // the last analysis succeeded
   bool uniform_ = false;    // every vertex of dimension d_
   std::vector<int> order_;  // B's column k is H's column order_[k]
   std::vector<int> block_order_, block_first_;
