@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <type_traits>
+#include <vector>
 
 namespace graphslam::solvers::detail {
 
@@ -125,19 +125,10 @@ void solveGroups(const double* v, const std::ptrdiff_t* group_offset, const int*
 LinearSolverResult EnvelopeCholesky::solveInterleaved(double* b, int d) const {
   if (!factorized_)
     return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
-  const auto run = [&](auto size) {
+  withFixedSize(d, [&](auto size) {
     solveGroups<decltype(size)::value>(values_.data(), group_offset_.data(), start_.data(),
                                        inv_diag_.data(), n_, b, d);
-  };
-  if (d == 1) {
-    run(std::integral_constant<int, 1>{});
-  } else if (d == 2) {
-    run(std::integral_constant<int, 2>{});
-  } else if (d == 3) {
-    run(std::integral_constant<int, 3>{});
-  } else {
-    run(std::integral_constant<int, 0>{});
-  }
+  });
   if (!allFinite(b, n_ * d)) return notFinite();
   return LinearSolverResult::success();
 }
