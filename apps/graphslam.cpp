@@ -154,6 +154,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "lambda-decrease",
       po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
+      "first-step-damping",
+      po::value(&options.first_step_damping)->default_value(options.first_step_damping),
+      "default algorithm: when the first undamped step raises chi2, retry it once with "
+      "Marquardt damping lambda diag(H), lambda = this, and keep the lower (0: off)")(
       "damping", po::value(&damping)->default_value("identity"),
       "LM damping: identity (lambda I) or diagonal (lambda diag(H))")(
       "marginals", po::value(&marginals_file),
@@ -168,6 +172,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  if (!(options.first_step_damping >= 0.0) || !std::isfinite(options.first_step_damping)) {
+    throw UsageError("--first-step-damping must be a finite number >= 0");
+  }
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");
   }

@@ -112,6 +112,7 @@ struct Optimizer::Impl {
   bool jacobian_form = false;
   std::vector<double> rhs;
   std::vector<double> dx;
+  std::vector<double> first_dx;    // the first iteration's undamped step, while it is retried
   std::vector<double> saved_diag;  // diagonal of the undamped H
   std::vector<double> damping_diag;
   std::vector<double> cg_zhp, cg_p;  // chord steps' conjugate gradients (r lives in rhs)
@@ -512,6 +513,40 @@ Summary Optimizer::optimize() {
       im.applyUpdate();
       new_chi2 = im.evalChi2(graph_);
       st.time.solve += seconds(tf1, Clock::now());
+      if (!damped && fallback && it == 1 && attempts == 1 && options_.first_step_damping > 0 &&
+          !(new_chi2 <= chi2)) {
+        // The first undamped step raised chi2: from the initial estimate the quadratic
+        // model can be far off. One more factorisation with Marquardt damping, and the
+        // lower of the two steps is the iteration's (Options::first_step_damping).
+        const double undamped_chi2 = new_chi2;
+        im.undoUpdate();
+        im.first_dx.swap(im.dx);
+        im.dx.resize(static_cast<std::size_t>(n));
+        im.saveDiagonal();
+        im.damping_diag.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) im.damping_diag[i] = std::clamp(im.saved_diag[i], 1e-6, 1e32);
+        ++attempts;
+        const auto td0 = Clock::now();
+        LinearSolverResult rd = im.factorize(options_.first_step_damping);
+        const auto td1 = Clock::now();
+        st.time.factorize += seconds(td0, td1);
+        double damped_chi2 = std::numeric_limits<double>::quiet_NaN();
+        if (rd.ok()) rd = im.solve();
+        if (rd.ok()) {
+          im.applyUpdate();
+          damped_chi2 = im.evalChi2(graph_);
+        }
+        if (damped_chi2 < undamped_chi2) {
+          new_chi2 = damped_chi2;
+          used_lambda = options_.first_step_damping;
+        } else {
+          if (rd.ok()) im.undoUpdate();
+          im.dx.swap(im.first_dx);
+          im.applyUpdate();
+          new_chi2 = im.evalChi2(graph_);  // the errors at the undamped step again
+        }
+        st.time.solve += seconds(td1, Clock::now());
+      }
       if (!damped) {
         if (!std::isfinite(new_chi2) && !fallback) {
           im.undoUpdate();

@@ -121,6 +121,14 @@ class Optimizer {
     /// before switching to LM from the best estimate. Gauss-Newton often climbs for a few
     /// steps before it drops into a much better basin (victoria_park: 8 steps).
     int fallback_patience = 10;
+    /// kGaussNewtonFallback: when the first (undamped) step raises chi2, the first
+    /// iteration factorises once more with Marquardt damping, H + lambda diag(H) with
+    /// lambda = this, and keeps the lower of the two steps; 0 keeps the undamped step.
+    /// From the initial estimate the quadratic model can be far off (m3500b: 7743 ->
+    /// 36583 undamped, 3470 damped); any lambda from 2e-4 to 3e-2 reaches m3500b's best
+    /// known chi2 one factorisation earlier (docs/BENCHMARKS.md). Files whose first step
+    /// lowers chi2 are not affected.
+    double first_step_damping = 1e-3;
     /// LM: retries (factorisations with larger damping) before giving up.
     int max_rejections = 10;
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
