@@ -56,6 +56,11 @@ constexpr const char* kOptimizeUsage =
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
     "remove the gauge freedom gets zeros; the others are relative to it.";
 
+/// How the iteration line marks the first iteration's dogleg step.
+std::string doglegNote(int halvings) {
+  return "  (dogleg step: trust radius = Gauss-Newton step / 2^" + std::to_string(halvings) + ")";
+}
+
 /// How the iteration line marks a chord step.
 std::string chordNote(int cg_iterations) {
   return "  (chord step: previous factorisation, " + std::to_string(cg_iterations) +
@@ -67,7 +72,8 @@ std::string csvLine(const IterationStats& s) {
   o.precision(17);
   o << s.iteration << ',' << s.chi2 << ',' << s.lambda << ',' << s.step_norm << ',' << s.attempts
     << ',' << (s.accepted ? 1 : 0) << ',' << s.time.linearize << ',' << s.time.build << ','
-    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed << ',' << s.cg_iterations;
+    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed << ',' << s.cg_iterations << ','
+    << s.dogleg_halvings;
   return o.str();
 }
 
@@ -117,7 +123,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   std::string input, output, algorithm, solver, stats_file, plot, npz_model;
   int iterations = 100;
   std::vector<std::string> plugins;
-  std::string damping, init, marginals_file, marginals_tag;
+  std::string damping, first_step, init, marginals_file, marginals_tag;
   Optimizer::Options options;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input),
@@ -154,10 +160,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "lambda-decrease",
       po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
-      "first-step-damping",
-      po::value(&options.first_step_damping)->default_value(options.first_step_damping),
-      "default algorithm: when the first undamped step raises chi2, retry it once with "
-      "Marquardt damping lambda diag(H), lambda = this, and keep the lower (0: off)")(
+      "first-step", po::value(&first_step)->default_value("dogleg"),
+      "default algorithm, when the first Gauss-Newton step raises chi2: dogleg (a dogleg "
+      "step in a trust region shrunk until the model agrees, same factorisation) or gn "
+      "(keep the Gauss-Newton step)")(
       "damping", po::value(&damping)->default_value("identity"),
       "LM damping: identity (lambda I) or diagonal (lambda diag(H))")(
       "marginals", po::value(&marginals_file),
@@ -172,9 +178,6 @@ int cmdOptimize(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (iterations < 1) throw UsageError("--iterations must be at least 1");
-  if (!(options.first_step_damping >= 0.0) || !std::isfinite(options.first_step_damping)) {
-    throw UsageError("--first-step-damping must be a finite number >= 0");
-  }
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");
   }
@@ -182,6 +185,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "damping", damping,
       {{"identity", Optimizer::Options::Damping::kIdentity},
        {"diagonal", Optimizer::Options::Damping::kDiagonal}});
+  options.first_step_dogleg =
+      parseChoice<bool>("first-step", first_step, {{"dogleg", true}, {"gn", false}});
   options.algorithm = parseAlgorithm(algorithm);
   options.max_iterations = iterations;
   options.linear_solver = solver;
@@ -231,8 +236,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
     if (!quiet) {
       std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
                   s.chi2, s.lambda, s.step_norm, s.time.total(),
-                  s.accepted ? (s.attempts == 0 ? chordNote(s.cg_iterations).c_str() : "")
-                             : "  (rejected)");
+                  !s.accepted             ? "  (rejected)"
+                  : s.attempts == 0       ? chordNote(s.cg_iterations).c_str()
+                  : s.dogleg_halvings > 0 ? doglegNote(s.dogleg_halvings).c_str()
+                                          : "");
       std::fflush(stdout);
     }
     csv.push_back(csvLine(s));
@@ -254,7 +261,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   if (!stats_file.empty()) {
     writeFileAtomically(stats_file, [&](std::ostream& out) {
       out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
-             "time_factorize,time_solve,elapsed,cg_iterations\n";
+             "time_factorize,time_solve,elapsed,cg_iterations,dogleg_halvings\n";
       for (const auto& line : csv) out << line << "\n";
     });
   }

@@ -85,6 +85,13 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   // sort): assembling H then writes its columns in turn instead of all over the array.
   std::vector<int> first_block;
   if (lower_) first_block.reserve(graph.edges().size());
+  // Every active edge's slots: their columns (b's offsets, -1 for a fixed vertex),
+  // recorded now, while the vertices are visited anyway (another structure on the same
+  // graph may set their hessianIndex later). The block positions follow at the first
+  // assembly (buildRefs): a structure rebuilt in a solver's order before any assembly
+  // never computes them twice.
+  b_offsets_.clear();
+  edge_b_start_.clear();
   for (const auto& e : graph.edges()) {
     blocks.clear();
     for (std::size_t s = 0; s < e->numVertices(); ++s) blocks.push_back(block_of(e->vertex(s)));
@@ -92,6 +99,8 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
     for (int b : blocks) first = b >= 0 ? std::min(first, b) : first;
     if (first == nb) continue;
     active_edges_.push_back(e.get());
+    edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
+    for (int b : blocks) b_offsets_.push_back(b >= 0 ? block_starts_[b] : -1);
     if (lower_) first_block.push_back(first);
     for (std::size_t a = 0; a < blocks.size(); ++a) {
       for (std::size_t b = a + 1; b < blocks.size(); ++b) {
@@ -104,11 +113,38 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
     for (int b : first_block) ++start[static_cast<std::size_t>(b) + 1];
     for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
     std::vector<Edge*> sorted(active_edges_.size());
+    std::vector<int> sorted_offsets(b_offsets_.size());
+    std::vector<std::uint32_t> sorted_start(active_edges_.size());
+    std::uint32_t at = 0;
+    // Slots in the sorted edges' order: each edge's first slot comes from its position.
+    std::vector<std::size_t> position(active_edges_.size());
     for (std::size_t k = 0; k < active_edges_.size(); ++k) {
-      sorted[start[static_cast<std::size_t>(first_block[k])]++] = active_edges_[k];
+      position[k] = start[static_cast<std::size_t>(first_block[k])]++;
+      sorted[position[k]] = active_edges_[k];
+    }
+    std::vector<std::uint32_t> slots(active_edges_.size());
+    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+      const std::uint32_t end = k + 1 < active_edges_.size()
+                                    ? edge_b_start_[k + 1]
+                                    : static_cast<std::uint32_t>(b_offsets_.size());
+      slots[position[k]] = end - edge_b_start_[k];
+    }
+    for (std::size_t k = 0; k < sorted.size(); ++k) {
+      sorted_start[k] = at;
+      at += slots[k];
+    }
+    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+      std::copy(b_offsets_.begin() + edge_b_start_[k],
+                b_offsets_.begin() + edge_b_start_[k] + slots[position[k]],
+                sorted_offsets.begin() + sorted_start[position[k]]);
     }
     active_edges_.swap(sorted);
+    b_offsets_.swap(sorted_offsets);
+    edge_b_start_.swap(sorted_start);
   }
+  edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
+  std::vector<int>(b_offsets_).swap(b_offsets_);  // exact size (large graphs)
+  std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
   const BlockPattern pattern =
       lower_ ? transposed(BlockPattern::fromPairs(nb, pairs)) : BlockPattern::fromPairs(nb, pairs);
 
@@ -132,39 +168,25 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   }
   col_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
   row_idx_.clear();
-  row_idx_.reserve(nnz);
+  row_idx_.resize(nnz);
   diag_pos_.assign(static_cast<std::size_t>(n_), 0);
+  int* out = row_idx_.data();
   for (int j = 0; j < nb; ++j) {
     const int dj = block_starts_[j + 1] - block_starts_[j];
     const int diag_at = pattern.find(j, j);
+    // The first column's rows, then the same rows for the block's other columns.
+    const int* first = out;
+    for (int q = pattern.ptr[j]; q < pattern.ptr[j + 1]; ++q) {
+      const int r = pattern.rows[q];
+      for (int i = block_starts_[r]; i < block_starts_[r + 1]; ++i) *out++ = i;
+    }
     for (int k = 0; k < dj; ++k) {
       const int c = block_starts_[j] + k;
       col_ptr_[c + 1] = col_ptr_[c] + col_len[j];
-      for (int q = pattern.ptr[j]; q < pattern.ptr[j + 1]; ++q) {
-        const int r = pattern.rows[q];
-        for (int i = block_starts_[r]; i < block_starts_[r + 1]; ++i) row_idx_.push_back(i);
-      }
+      if (k > 0) out = std::copy(first, first + col_len[j], out);
       diag_pos_[c] = col_ptr_[c] + within[diag_at] + k;
     }
   }
-
-  // Every edge's slots: their columns (b's offsets), recorded now (another structure on
-  // the same graph may set the vertices' hessianIndex later). The block positions follow
-  // at the first assembly (buildRefs): a structure rebuilt in a solver's order before
-  // any assembly never computes them twice.
-  std::size_t num_slots = 0;
-  for (const Edge* e : active_edges_) num_slots += e->numVertices();
-  b_offsets_.clear();
-  b_offsets_.reserve(num_slots);
-  edge_b_start_.clear();
-  edge_b_start_.reserve(active_edges_.size() + 1);
-  for (const Edge* e : active_edges_) {
-    edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
-    for (std::size_t a = 0; a < e->numVertices(); ++a) {
-      b_offsets_.push_back(e->vertex(a)->hessianIndex());
-    }
-  }
-  edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
   std::vector<HessianBlockRef>().swap(refs_);
   std::vector<std::uint32_t>().swap(edge_ref_start_);
 }

@@ -102,6 +102,11 @@ constexpr double kChordAbsoluteTolerance = 0.1;
 /// nnz(L)/n / 4 solves (sum c_j^2 flops against 4 sum c_j, c_j the column counts of L);
 /// a chord step may spend half of that, at least one iteration and at most this many.
 constexpr int kChordMaxIterations = 10;
+/// The first iteration's dogleg step (firstStepDogleg) is the first trial point whose
+/// actual decrease of chi2 is within this fraction of the model's, or the lowest after
+/// this many halvings of the trust region.
+constexpr double kDoglegAgreement = 0.25;
+constexpr int kDoglegMaxHalvings = 20;
 }  // namespace
 
 struct Optimizer::Impl {
@@ -112,8 +117,8 @@ struct Optimizer::Impl {
   bool jacobian_form = false;
   std::vector<double> rhs;
   std::vector<double> dx;
-  std::vector<double> first_dx;    // the first iteration's undamped step, while it is retried
-  std::vector<double> saved_diag;  // diagonal of the undamped H
+  std::vector<double> gn_dx, cauchy;  // the first iteration's dogleg: the ends of its path
+  std::vector<double> saved_diag;     // diagonal of the undamped H
   std::vector<double> damping_diag;
   std::vector<double> cg_zhp, cg_p;  // chord steps' conjugate gradients (r lives in rhs)
 
@@ -271,6 +276,94 @@ struct Optimizer::Impl {
   }
 
   double evalChi2(Graph& graph) { return structure.computeChi2(graph); }
+
+  /// Dogleg step from the undamped step in dx (which raised chi2 from `chi2` to
+  /// `gn_chi2`; not applied), with the same factorisation: the path runs from the origin
+  /// along the steepest descent of chi2 scaled by D = diag(H) to its minimum (the Cauchy
+  /// point), then straight to the Gauss-Newton step. Its point at D-norm Delta, Delta the
+  /// Gauss-Newton step's halved again and again, is tried until the quadratic model
+  /// predicts the decrease of chi2 within kDoglegAgreement (each trial: one evaluation of
+  /// chi2); after kDoglegMaxHalvings the lowest chi2 seen is taken, if it is below gn_chi2.
+  /// Applies the step taken and returns {its chi2, halvings} ({gn_chi2, 0}: the
+  /// undamped step, when no trial is lower or the path is undefined).
+  std::pair<double, int> firstStepDogleg(Graph& graph, double chi2, double gn_chi2) {
+    const int n = structure.dimension();
+    const auto& g = structure.gradient();
+    const auto& h = structure.hessianValues();
+    const auto& diag = structure.hessianDiagonalPositions();
+    gn_dx = dx;
+    // Cauchy point c = -a D^-1 g, a = g^T D^-1 g / (D^-1 g)^T H (D^-1 g).
+    cauchy.resize(static_cast<std::size_t>(n));
+    std::vector<double>& hc = cg_zhp;  // H (D^-1 g), scratch
+    double gdg = 0.0;
+    for (int i = 0; i < n; ++i) {
+      cauchy[i] = -g[i] / std::clamp(h[diag[i]], 1e-6, 1e32);
+      gdg -= g[i] * cauchy[i];
+    }
+    hessianProduct(cauchy, hc);
+    double chc = 0.0;
+    for (int i = 0; i < n; ++i) chc += cauchy[i] * hc[i];
+    const double a = gdg / chc;
+    if (!(a > 0.0) || !std::isfinite(a)) {
+      applyUpdate();
+      return {gn_chi2, 0};
+    }
+    for (int i = 0; i < n; ++i) cauchy[i] *= a;
+    chc *= a * a;
+    // Scalars of the path: D-norms, g^T c, g^T s (s the Gauss-Newton step: H s = -g,
+    // so s^T H s = -g^T s and c^T H s = -g^T c).
+    double cc = 0.0, cs = 0.0, ss = 0.0, gc = 0.0, gs = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double d = std::clamp(h[diag[i]], 1e-6, 1e32);
+      cc += d * cauchy[i] * cauchy[i];
+      cs += d * cauchy[i] * gn_dx[i];
+      ss += d * gn_dx[i] * gn_dx[i];
+      gc += g[i] * cauchy[i];
+      gs += g[i] * gn_dx[i];
+    }
+    const double gn_norm = std::sqrt(ss);
+    const double c_norm = std::sqrt(cc);
+    // The point at D-norm delta: (1 - t) c + t s, or u c (u <= 1) inside the Cauchy point;
+    // and the model's decrease of chi2 there, -2 g^T p - p^T H p.
+    auto point = [&](double delta, double& predicted) {
+      if (delta <= c_norm) {
+        const double u = delta / c_norm;
+        for (int i = 0; i < n; ++i) dx[i] = u * cauchy[i];
+        predicted = -2.0 * u * gc - u * u * chc;
+        return;
+      }
+      const double qa = cc - 2.0 * cs + ss;  // |s - c|^2
+      const double qb = 2.0 * (cs - cc);
+      const double qc = cc - delta * delta;
+      const double t = (-qb + std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc))) / (2.0 * qa);
+      for (int i = 0; i < n; ++i) dx[i] = (1.0 - t) * cauchy[i] + t * gn_dx[i];
+      const double gp = (1.0 - t) * gc + t * gs;
+      const double php = (1.0 - t) * (1.0 - t) * chc - 2.0 * t * (1.0 - t) * gc - t * t * gs;
+      predicted = -2.0 * gp - php;
+    };
+    double best_chi2 = gn_chi2;
+    int best = 0;
+    for (int k = 1; k <= kDoglegMaxHalvings; ++k) {
+      double predicted = 0.0;
+      point(std::ldexp(gn_norm, -k), predicted);
+      applyUpdate();
+      const double trial = evalChi2(graph);
+      if (trial < best_chi2) {
+        best_chi2 = trial;
+        best = k;
+      }
+      if (std::abs(1.0 - (chi2 - trial) / predicted) <= kDoglegAgreement) return {trial, k};
+      undoUpdate();
+    }
+    if (best == 0) {
+      dx = gn_dx;
+    } else {
+      double predicted = 0.0;
+      point(std::ldexp(gn_norm, -best), predicted);
+    }
+    applyUpdate();
+    return {evalChi2(graph), best};
+  }
 
   void applyUpdate() {
     for (Vertex* v : structure.activeVertices()) {
@@ -513,39 +606,15 @@ Summary Optimizer::optimize() {
       im.applyUpdate();
       new_chi2 = im.evalChi2(graph_);
       st.time.solve += seconds(tf1, Clock::now());
-      if (!damped && fallback && it == 1 && attempts == 1 && options_.first_step_damping > 0 &&
+      if (!damped && fallback && it == 1 && options_.first_step_dogleg && !im.jacobian_form &&
           !(new_chi2 <= chi2)) {
         // The first undamped step raised chi2: from the initial estimate the quadratic
-        // model can be far off. One more factorisation with Marquardt damping, and the
-        // lower of the two steps is the iteration's (Options::first_step_damping).
-        const double undamped_chi2 = new_chi2;
+        // model can be far off. A dogleg step in a trust region shrunk until the model
+        // agrees, from the same factorisation (Options::first_step_dogleg).
         im.undoUpdate();
-        im.first_dx.swap(im.dx);
-        im.dx.resize(static_cast<std::size_t>(n));
-        im.saveDiagonal();
-        im.damping_diag.resize(static_cast<std::size_t>(n));
-        for (int i = 0; i < n; ++i) im.damping_diag[i] = std::clamp(im.saved_diag[i], 1e-6, 1e32);
-        ++attempts;
-        const auto td0 = Clock::now();
-        LinearSolverResult rd = im.factorize(options_.first_step_damping);
-        const auto td1 = Clock::now();
-        st.time.factorize += seconds(td0, td1);
-        double damped_chi2 = std::numeric_limits<double>::quiet_NaN();
-        if (rd.ok()) rd = im.solve();
-        if (rd.ok()) {
-          im.applyUpdate();
-          damped_chi2 = im.evalChi2(graph_);
-        }
-        if (damped_chi2 < undamped_chi2) {
-          new_chi2 = damped_chi2;
-          used_lambda = options_.first_step_damping;
-        } else {
-          if (rd.ok()) im.undoUpdate();
-          im.dx.swap(im.first_dx);
-          im.applyUpdate();
-          new_chi2 = im.evalChi2(graph_);  // the errors at the undamped step again
-        }
-        st.time.solve += seconds(td1, Clock::now());
+        const auto [dogleg_chi2, halvings] = im.firstStepDogleg(graph_, chi2, new_chi2);
+        new_chi2 = dogleg_chi2;
+        st.dogleg_halvings = halvings;
       }
       if (!damped) {
         if (!std::isfinite(new_chi2) && !fallback) {

@@ -59,6 +59,9 @@ struct IterationStats {
   /// Conjugate-gradient iterations of a chord step (each one solve with the previous
   /// factorisation); 0 otherwise.
   int cg_iterations = 0;
+  /// First iteration's dogleg step (Options::first_step_dogleg): its trust radius was
+  /// the Gauss-Newton step's length / 2^dogleg_halvings; 0 otherwise.
+  int dogleg_halvings = 0;
   bool accepted = true;  ///< false when LM found no decreasing step
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
@@ -122,13 +125,15 @@ class Optimizer {
     /// steps before it drops into a much better basin (victoria_park: 8 steps).
     int fallback_patience = 10;
     /// kGaussNewtonFallback: when the first (undamped) step raises chi2, the first
-    /// iteration factorises once more with Marquardt damping, H + lambda diag(H) with
-    /// lambda = this, and keeps the lower of the two steps; 0 keeps the undamped step.
-    /// From the initial estimate the quadratic model can be far off (m3500b: 7743 ->
-    /// 36583 undamped, 3470 damped); any lambda from 2e-4 to 3e-2 reaches m3500b's best
-    /// known chi2 one factorisation earlier (docs/BENCHMARKS.md). Files whose first step
-    /// lowers chi2 are not affected.
-    double first_step_damping = 1e-3;
+    /// iteration takes a dogleg step instead, from the same factorisation: along the
+    /// steepest descent scaled by diag(H) to its Cauchy point, then towards the
+    /// Gauss-Newton step, at a trust radius halved from the Gauss-Newton step's length
+    /// until the quadratic model predicts the decrease of chi2 within 25 % (one
+    /// evaluation of chi2 per halving). From the initial estimate the model can be far
+    /// off: m3500b goes 7743 -> 36583 undamped, 4050 by the dogleg step (two halvings),
+    /// below its best known 4212.0166. Files whose first step lowers chi2, and
+    /// Jacobian-form solvers, are not affected. false: keep the undamped step.
+    bool first_step_dogleg = true;
     /// LM: retries (factorisations with larger damping) before giving up.
     int max_rejections = 10;
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
