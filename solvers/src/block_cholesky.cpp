@@ -49,8 +49,8 @@ Eigen::Index firstNonPositivePivot(Eigen::MatrixXd& a) {
   return -1;
 }
 
-/// L = blocks in column storage: column i holds its diagonal block, then one block per
-/// row k > i of its pattern, rows ascending. The row patterns are kept too (the up-looking
+/// L = blocks in column storage: column i holds the inverse of its diagonal block, then one block
+/// per row k > i of its pattern, rows ascending. The row patterns are kept too (the up-looking
 /// order). Everything but the values is built once per structure.
 template <int B>
 class BlockCholesky final : public detail::OrderedSolver {
@@ -205,8 +205,6 @@ class BlockCholesky final : public detail::OrderedSolver {
     values_.resize(static_cast<std::size_t>(col_ptr_[nb_]));
     work_.clear();
     work_.resize(static_cast<std::size_t>(nb_));
-    inverse_.clear();
-    inverse_.resize(static_cast<std::size_t>(nb_));
     return LinearSolverResult::success();
   }
 
@@ -279,7 +277,7 @@ class BlockCholesky final : public detail::OrderedSolver {
           stop = e;
           while (stop < entry_[q] && col_row_[stop] < tail_) ++stop;
         }
-        eliminate_(work_[i].data(), inverse_[i].data(), values_[entry_[q]].data(),
+        eliminate_(work_[i].data(), values_[col_ptr_[i]].data(), values_[entry_[q]].data(),
                    values_.data()->data() + static_cast<std::ptrdiff_t>(e) * B * B,
                    col_row_.data() + e, stop - e, work_.data()->data(), diag.data());
         if (in_tail) {
@@ -295,8 +293,9 @@ class BlockCholesky final : public detail::OrderedSolver {
         return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                            "non-positive pivot block", start_[old_[k]]);
       }
-      values_[col_ptr_[k]] = llt.matrixL();
-      inverse_[k] = values_[col_ptr_[k]].inverse();  // closed form for fixed 2x2 / 3x3
+      // Column k's first block holds L(k, k)^{-1}, the only form the elimination and the
+      // solves use (products: a triangular solve of fixed size is slower).
+      values_[col_ptr_[k]] = Block(llt.matrixL()).inverse();  // closed form for 2x2 / 3x3
     }
     return LinearSolverResult::success();
   }
@@ -316,8 +315,8 @@ class BlockCholesky final : public detail::OrderedSolver {
     };
     for (int i = 0; i < tail_; ++i) {  // L y = b, by columns
       const int e = col_ptr_[i] + 1;
-      solve_.forward(inverse_[i].data(), at(i), blocks(e), col_row_.data() + e, col_ptr_[i + 1] - e,
-                     at(0));
+      solve_.forward(values_[col_ptr_[i]].data(), at(i), blocks(e), col_row_.data() + e,
+                     col_ptr_[i + 1] - e, at(0));
     }
     if (tail_ < nb_) {  // the dense tail, both ways
       Eigen::VectorXd& t = tail_rhs_;
@@ -333,7 +332,7 @@ class BlockCholesky final : public detail::OrderedSolver {
     }
     for (int i = tail_ - 1; i >= 0; --i) {  // L^T x = y
       const int e = col_ptr_[i] + 1;
-      solve_.backward(inverse_[i].data(), at(i), blocks(e), col_row_.data() + e,
+      solve_.backward(values_[col_ptr_[i]].data(), at(i), blocks(e), col_row_.data() + e,
                       col_ptr_[i + 1] - e, at(0));
     }
     for (int k = 0; k < nb_; ++k) {
@@ -433,7 +432,6 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<int> col_ptr_, col_row_;
   std::vector<Block, Eigen::aligned_allocator<Block>> values_;
   std::vector<Work, Eigen::aligned_allocator<Work>> work_;
-  std::vector<Block, Eigen::aligned_allocator<Block>> inverse_;  // L(k, k)^{-1}
   std::vector<PVec, Eigen::aligned_allocator<PVec>> y_;
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
