@@ -611,10 +611,12 @@ Summary Optimizer::optimize() {
         // The first undamped step raised chi2: from the initial estimate the quadratic
         // model can be far off. A dogleg step in a trust region shrunk until the model
         // agrees, from the same factorisation (Options::first_step_dogleg).
+        const auto td = Clock::now();
         im.undoUpdate();
         const auto [dogleg_chi2, halvings] = im.firstStepDogleg(graph_, chi2, new_chi2);
         new_chi2 = dogleg_chi2;
         st.dogleg_halvings = halvings;
+        st.time.solve += seconds(td, Clock::now());
       }
       if (!damped) {
         if (!std::isfinite(new_chi2) && !fallback) {
