@@ -108,41 +108,30 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
       }
     }
   }
+  edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
   if (lower_) {
+    const std::size_t m = active_edges_.size();
     std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1, 0);
     for (int b : first_block) ++start[static_cast<std::size_t>(b) + 1];
     for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
-    std::vector<Edge*> sorted(active_edges_.size());
-    std::vector<int> sorted_offsets(b_offsets_.size());
-    std::vector<std::uint32_t> sorted_start(active_edges_.size());
-    std::uint32_t at = 0;
-    // Slots in the sorted edges' order: each edge's first slot comes from its position.
-    std::vector<std::size_t> position(active_edges_.size());
-    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+    std::vector<std::size_t> position(m);  // of every edge in the sorted order
+    std::vector<Edge*> sorted(m);
+    std::vector<std::uint32_t> sorted_start(m + 1, 0);
+    for (std::size_t k = 0; k < m; ++k) {
       position[k] = start[static_cast<std::size_t>(first_block[k])]++;
       sorted[position[k]] = active_edges_[k];
+      sorted_start[position[k] + 1] = edge_b_start_[k + 1] - edge_b_start_[k];
     }
-    std::vector<std::uint32_t> slots(active_edges_.size());
-    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
-      const std::uint32_t end = k + 1 < active_edges_.size()
-                                    ? edge_b_start_[k + 1]
-                                    : static_cast<std::uint32_t>(b_offsets_.size());
-      slots[position[k]] = end - edge_b_start_[k];
-    }
-    for (std::size_t k = 0; k < sorted.size(); ++k) {
-      sorted_start[k] = at;
-      at += slots[k];
-    }
-    for (std::size_t k = 0; k < active_edges_.size(); ++k) {
-      std::copy(b_offsets_.begin() + edge_b_start_[k],
-                b_offsets_.begin() + edge_b_start_[k] + slots[position[k]],
+    for (std::size_t k = 0; k < m; ++k) sorted_start[k + 1] += sorted_start[k];
+    std::vector<int> sorted_offsets(b_offsets_.size());
+    for (std::size_t k = 0; k < m; ++k) {
+      std::copy(b_offsets_.begin() + edge_b_start_[k], b_offsets_.begin() + edge_b_start_[k + 1],
                 sorted_offsets.begin() + sorted_start[position[k]]);
     }
     active_edges_.swap(sorted);
     b_offsets_.swap(sorted_offsets);
     edge_b_start_.swap(sorted_start);
   }
-  edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
   std::vector<int>(b_offsets_).swap(b_offsets_);  // exact size (large graphs)
   std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
   const BlockPattern pattern =
