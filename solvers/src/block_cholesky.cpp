@@ -9,13 +9,11 @@
 // factorised as one dense matrix with Eigen's blocked LL^T, unpadded.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
-#include <type_traits>
 
 #include "block_kernels.h"
 #include "common.h"
@@ -47,6 +45,36 @@ Eigen::Index firstNonPositivePivot(Eigen::MatrixXd& a) {
         (a.col(j).tail(below) - a.bottomLeftCorner(below, j) * a.row(j).head(j).transpose()) / d;
   }
   return -1;
+}
+
+/// L^{-1} of the Cholesky factor L L^T = A of the symmetric B x B block at the top of `a`
+/// (its lower triangle is read), unrolled: false when a pivot is not positive (or NaN).
+template <int B, typename In>
+bool inverseCholeskyFactor(const In& a, Eigen::Matrix<double, B, B>& inv) {
+  Eigen::Matrix<double, B, B> l;
+  for (int j = 0; j < B; ++j) {
+    double d = a(j, j);
+    for (int t = 0; t < j; ++t) d -= l(j, t) * l(j, t);
+    if (!(d > 0.0)) return false;
+    l(j, j) = std::sqrt(d);
+    const double r = 1.0 / l(j, j);
+    inv(j, j) = r;
+    for (int i = j + 1; i < B; ++i) {
+      double v = a(i, j);
+      for (int t = 0; t < j; ++t) v -= l(i, t) * l(j, t);
+      l(i, j) = v * r;
+    }
+  }
+  // L X = I by forward substitution: X(i, j) = -sum_{t=j}^{i-1} L(i, t) X(t, j) / L(i, i).
+  for (int j = 0; j < B; ++j) {
+    for (int i = 0; i < j; ++i) inv(i, j) = 0.0;
+    for (int i = j + 1; i < B; ++i) {
+      double v = 0.0;
+      for (int t = j; t < i; ++t) v += l(i, t) * inv(t, j);
+      inv(i, j) = -v * inv(i, i);
+    }
+  }
+  return true;
 }
 
 /// L = blocks in column storage: column i holds the inverse of its diagonal block, then one block
@@ -227,7 +255,6 @@ class BlockCholesky final : public detail::OrderedSolver {
 
   /// The block columns before the tail, and the tail matrix A_TT - L_T,<tail L_T,<tail^T.
   LinearSolverResult factorizeColumns(const double* h) {
-    if (tail_ < nb_) tail_matrix_.setZero();
     for (int k = 0; k < nb_; ++k) {
       const bool in_tail = k >= tail_;
       // y = A(k, 0..k) into work_ (the diagonal block too).
@@ -236,10 +263,6 @@ class BlockCholesky final : public detail::OrderedSolver {
       const int dk = dim(old_[k]);
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
         const AEntry& e = a_[q];
-        if (in_tail && e.row >= tail_) {
-          addToTail(h, e, k);
-          continue;
-        }
         Block blk;
         if (uniform_ || (e.rows == B && e.cols == B)) {
           blk = Eigen::Map<const Block, 0, Eigen::OuterStride<>>(h + e.first,
@@ -269,33 +292,31 @@ class BlockCholesky final : public detail::OrderedSolver {
         // L(k, i) = y_i L(i, i)^{-T}, with the inverse kept from column i's factorisation
         // (a product: a triangular solve of fixed size is slower), then
         // y_p -= L(k, i) L(p, i)^T for the rows p < k of column i (stored before (k, i))
-        // and the diagonal block's, in one call of the kernel; rows p in the tail go to
-        // the dense matrix, which then holds A_TT - L_T,<tail L_T,<tail^T.
-        int e = col_ptr_[i] + 1;
-        int stop = entry_[q];
-        if (tail_ < nb_) {
-          stop = e;
-          while (stop < entry_[q] && col_row_[stop] < tail_) ++stop;
-        }
+        // and the diagonal block's, in one call of the kernel.
+        const int e = col_ptr_[i] + 1;
         eliminate_(work_[i].data(), values_[col_ptr_[i]].data(), values_[entry_[q]].data(),
                    values_.data()->data() + static_cast<std::ptrdiff_t>(e) * B * B,
-                   col_row_.data() + e, stop - e, work_.data()->data(), diag.data());
-        if (in_tail) {
-          const Block& lki = values_[entry_[q]];
-          for (e = stop; e < entry_[q]; ++e) subtractFromTail(lki, values_[e], k, col_row_[e]);
-          subtractFromTail(lki, lki, k, k);
-        }
+                   col_row_.data() + e, entry_[q] - e, work_.data()->data(), diag.data());
       }
-      if (in_tail) continue;
+      if (in_tail) {
+        // Row k of the tail matrix, A_TT - L_T,<tail L_T,<tail^T: the entries y_p of the
+        // tail's columns p < k and the diagonal block, unpadded (lower triangle).
+        const int r0 = tailAt(k);
+        for (int p = tail_; p < k; ++p) {
+          tail_matrix_.block(r0, tailAt(p), dk, tailDim(p)) =
+              work_[p].topLeftCorner(dk, tailDim(p));
+        }
+        tail_matrix_.block(r0, r0, dk, dk).template triangularView<Eigen::Lower>() =
+            diag.topLeftCorner(dk, dk);
+        continue;
+      }
       for (int t = dk; t < B; ++t) diag(t, t) = 1.0;  // padding
-      Eigen::LLT<Block> llt(diag.template topRows<B>());
-      if (llt.info() != Eigen::Success) {
+      // Column k's first block holds L(k, k)^{-1}, the only form the elimination and the
+      // solves use (products: a triangular solve of fixed size is slower).
+      if (!inverseCholeskyFactor(diag, values_[col_ptr_[k]])) {
         return LinearSolverResult::failure(LinearSolverStatus::kNotPositiveDefinite,
                                            "non-positive pivot block", start_[old_[k]]);
       }
-      // Column k's first block holds L(k, k)^{-1}, the only form the elimination and the
-      // solves use (products: a triangular solve of fixed size is slower).
-      values_[col_ptr_[k]] = Block(llt.matrixL()).inverse();  // closed form for 2x2 / 3x3
     }
     return LinearSolverResult::success();
   }
@@ -370,56 +391,6 @@ class BlockCholesky final : public detail::OrderedSolver {
   /// Position of tail block column k in the dense tail matrix, and its dimension.
   int tailAt(int k) const { return tail_start_[k - tail_]; }
   int tailDim(int k) const { return tail_start_[k - tail_ + 1] - tail_start_[k - tail_]; }
-
-  /// Adds H's block of entry e (both rows and column in the tail; column k) to the dense
-  /// tail matrix's lower triangle.
-  void addToTail(const double* h, const AEntry& e, int k) {
-    const double* src = h + e.first;
-    // H's block is e.rows x e.cols; in the new order its rows are block e.row's and its
-    // columns block k's, or (transposed) its rows block k's and its columns e.row's.
-    for (int j = 0; j < e.cols; ++j) {
-      for (int i = 0; i < e.rows; ++i) {
-        const double v = src[i + j * e.stride];
-        int r = 0, c = 0;
-        if (e.transposed) {
-          r = tailAt(k) + i;
-          c = tailAt(e.row) + j;
-        } else {
-          r = tailAt(e.row) + i;
-          c = tailAt(k) + j;
-        }
-        if (r >= c) tail_matrix_(r, c) = v;  // the lower triangle (both for a diagonal
-        if (c >= r) tail_matrix_(c, r) = v;  // block, which H stores full)
-      }
-    }
-  }
-
-  /// Tail matrix block (k, p), p <= k, -= L(k, i) L(p, i)^T, unpadded: fixed-size
-  /// products for every pair of vertex dimensions (1..B).
-  void subtractFromTail(const Block& lki, const Block& lpi, int k, int p) {
-    double* dst = tail_matrix_.data() + tailAt(k) + tailAt(p) * tail_matrix_.rows();
-    const int dk = tailDim(k), dp = tailDim(p);
-    dispatchDim(dk, [&](auto rows) {
-      dispatchDim(dp, [&](auto cols) {
-        constexpr int R = decltype(rows)::value, C = decltype(cols)::value;
-        Eigen::Map<Eigen::Matrix<double, R, C>, 0, Eigen::OuterStride<>> m(
-            dst, Eigen::OuterStride<>(tail_matrix_.rows()));
-        m.noalias() -= lki.template topRows<R>() * lpi.template topRows<C>().transpose();
-      });
-    });
-  }
-  /// f(std::integral_constant<int, d>) for d in 1..B.
-  template <typename F>
-  static void dispatchDim(int d, F&& f) {
-    if (d == B) {
-      f(std::integral_constant<int, B>{});
-    } else if constexpr (B > 1) {
-      if (d == 1) f(std::integral_constant<int, 1>{});
-      if constexpr (B > 2) {
-        if (d == 2) f(std::integral_constant<int, 2>{});
-      }
-    }
-  }
 
   int nb_ = 0;
   int n_ = 0;
