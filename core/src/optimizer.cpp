@@ -473,10 +473,6 @@ Summary Optimizer::optimize() {
     }
     im.analyzed = true;
   }
-  // A solver that chooses its backend at analysis ("auto") names its choice.
-  if (im.solver->name().rfind(options_.linear_solver, 0) == 0) {
-    summary.linear_solver = im.solver->name();
-  }
   setup.build += seconds(t0, Clock::now());
   summary.time += setup;
 
@@ -723,6 +719,10 @@ Summary Optimizer::optimize() {
   }
   summary.final_chi2 = chi2;
   summary.factor_nonzeros = im.solver->factorNonZeros();
+  // A solver that chooses its backend at analysis ("auto") names its choice (asked at the
+  // end: it may take its figures from its backend's first factorisation).
+  const std::string chosen = im.solver->name();
+  if (chosen.rfind(options_.linear_solver, 0) == 0) summary.linear_solver = chosen;
   summary.total_time = seconds(t_start, Clock::now());
   return summary;
 }

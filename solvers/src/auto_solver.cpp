@@ -6,6 +6,7 @@
 #include <future>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "common.h"
@@ -39,9 +40,21 @@ class AutoSolver final : public LinearSolver {
   /// The choice made at analysis, and the path of the last factorisation when it was the
   /// scalar (isotropic) or the complex (conformal) one.
   std::string name() const override {
-    if (active_ && active_ == isotropic_.get()) return name_ + " (isotropic path)";
-    if (active_ && active_ == conformal_.get()) return name_ + " (complex path)";
-    return name_;
+    if (!analyzed_) return "auto";
+    if (cost_.factor_nonzeros < 0) {
+      // Not predicted at analysis (a small system): the backend's own analysis has the
+      // figures once it factorised, else they are computed now.
+      const std::optional<CholeskyPrediction> c =
+          backend_ ? backend_->analysedCost() : std::nullopt;
+      cost_ = c ? *c : predictCholesky(structure_, order_);
+    }
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend_name_,
+                  toString(label_), cost_.factor_nonzeros, cost_.flops);
+    std::string name = buf;
+    if (active_ && active_ == isotropic_.get()) name += " (isotropic path)";
+    if (active_ && active_ == conformal_.get()) name += " (complex path)";
+    return name;
   }
   Ordering ordering() const override { return analyzed_ ? label_ : Ordering::kDefault; }
 
@@ -80,7 +93,6 @@ class AutoSolver final : public LinearSolver {
     }
     planned_order_.clear();
     planned_for_ = {};
-    const CholeskyPrediction& cost = plan_.chosen.prediction;
     const Ordering label = plan_.chosen.ordering;
     const char* backend = "eigen-ldlt";
     make_backend_ = [](Ordering) { return makeEigenLdlt(); };
@@ -93,10 +105,8 @@ class AutoSolver final : public LinearSolver {
       make_backend_ = makeBlockCholesky;
       backend = "block-llt";
     }
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend,
-                  toString(label), cost.factor_nonzeros, cost.flops);
-    name_ = buf;
+    backend_name_ = backend;
+    cost_ = plan_.chosen.prediction;
     structure_ = s;
     label_ = label;
     order_ = std::move(plan_.chosen.perm);
@@ -176,7 +186,8 @@ class AutoSolver final : public LinearSolver {
            a.nnz() == b.nnz();
   }
   void plan(const SparseStructure& s, const detail::BlockGraph& g) {
-    plan_.chosen = detail::chooseOrdering(s, g);
+    // Small systems are not predicted exactly here: name() asks the backend's analysis.
+    plan_.chosen = detail::chooseOrdering(s, g, /*exact=*/false);
     // Fixed-size blocks pay for vertices of 2 or 3 dimensions (2D SLAM); scalar systems
     // (1x1 blocks) would only be padded.
     const int block_size = maxBlockSize(s);
@@ -189,7 +200,8 @@ class AutoSolver final : public LinearSolver {
 #endif
   }
 
-  std::string name_ = "auto";
+  const char* backend_name_ = "";
+  mutable CholeskyPrediction cost_;  // factor_nonzeros < 0: not known yet (name())
   bool analyzed_ = false;
   Plan plan_;
   std::vector<int> planned_order_;  // the block order preferredBlockOrder() asked for
@@ -223,7 +235,7 @@ ChosenOrdering chooseOrdering(const SparseStructure& s) {
   return detail::chooseOrdering(s, detail::blockGraph(s));
 }
 
-ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph& g) {
+ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph& g, bool exact) {
   // Above this many predicted flops with AMD, METIS is tried as well (it costs about as
   // much as one factorisation of a few 1e7 flops and pays only on larger graphs).
   constexpr double kTryMetisFlops = 2e8;
@@ -249,7 +261,16 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
     metis_ahead = std::async(std::launch::async, metis);
   }
 #endif
-  chosen.perm = detail::orderColumns(Ordering::kAmd, s, g);
+  double amd_work = -1.0;
+  chosen.perm = detail::orderColumnsAmd(s, g, &amd_work);
+  // d^3 sum_j (b_j + 1)^2 bounds the scalar flops (b_j: blocks below the diagonal in
+  // block column j, d: the largest block).
+  const double d = maxBlockSize(s);
+  const double bound = d * d * d * amd_work;
+  if (!exact && amd_work >= 0.0 && bound < kTryMetisFlops / 4) {
+    chosen.prediction = {-1.0, bound};
+    return chosen;
+  }
   chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
   if (metis_ahead.valid() || chosen.prediction.flops > kTryMetisFlops) {

@@ -183,6 +183,7 @@ class BlockCholesky final : public detail::OrderedSolver {
     row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
     row_idx_.clear();
     std::vector<int> count(static_cast<std::size_t>(nb_), 0);  // off-diagonal blocks per column
+    std::vector<double> below(static_cast<std::size_t>(nb_), 0.0);  // and their scalar rows
     std::vector<int> stack(static_cast<std::size_t>(nb_)), path(static_cast<std::size_t>(nb_));
     for (int k = 0; k < nb_; ++k) {
       flag[k] = k;
@@ -195,9 +196,24 @@ class BlockCholesky final : public detail::OrderedSolver {
         }
         while (len > 0) stack[--top] = path[--len];
       }
-      for (int t = top; t < nb_; ++t) ++count[stack[t]];
+      const int dk = dim(old_[k]);
+      for (int t = top; t < nb_; ++t) {
+        ++count[stack[t]];
+        below[stack[t]] += dk;
+      }
       row_idx_.insert(row_idx_.end(), stack.begin() + top, stack.end());
       row_ptr_[k + 1] = static_cast<int>(row_idx_.size());
+    }
+    // Size and work of L, unpadded: scalar column t of block column i holds d_i - t rows
+    // of the diagonal block and below_i below it.
+    cost_ = {};
+    for (int i = 0; i < nb_; ++i) {
+      const int d = dim(old_[i]);
+      for (int t = 0; t < d; ++t) {
+        const double c = (d - t) + below[i];
+        cost_.factor_nonzeros += c;
+        cost_.flops += c * c;
+      }
     }
     // Column storage: column i = diagonal block then count[i] blocks; entry of (k, i) in
     // row order of k gets the next free slot of column i.
@@ -366,16 +382,9 @@ class BlockCholesky final : public detail::OrderedSolver {
 
   std::size_t factorNonZeros() const override {
     // Lower triangle of the diagonal blocks plus the off-diagonal blocks, unpadded.
-    std::size_t nnz = 0;
-    for (int k = 0; k < nb_; ++k) {
-      const auto dk = static_cast<std::size_t>(dim(old_[k]));
-      nnz += dk * (dk + 1) / 2;
-      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
-        nnz += dk * static_cast<std::size_t>(dim(old_[row_idx_[q]]));
-      }
-    }
-    return nnz;
+    return static_cast<std::size_t>(cost_.factor_nonzeros);
   }
+  std::optional<CholeskyPrediction> analysedCost() const override { return cost_; }
 
  private:
   int dim(int original_block) const { return start_[original_block + 1] - start_[original_block]; }
@@ -404,6 +413,7 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<Block, Eigen::aligned_allocator<Block>> values_;
   std::vector<Work, Eigen::aligned_allocator<Work>> work_;
   std::vector<PVec, Eigen::aligned_allocator<PVec>> y_;
+  CholeskyPrediction cost_;      // L's size and work (analysis)
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
   Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
@@ -443,6 +453,9 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
     return impl_->solve(rhs, x);
   }
   std::size_t factorNonZeros() const override { return impl_ ? impl_->factorNonZeros() : 0; }
+  std::optional<CholeskyPrediction> analysedCost() const override {
+    return impl_ ? impl_->analysedCost() : std::nullopt;
+  }
 
  private:
   Ordering ordering_;

@@ -5,11 +5,13 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/ordering.h"
 
 namespace graphslam::solvers::detail {
 
@@ -120,6 +122,11 @@ class OrderedSolver : public LinearSolver {
   [[nodiscard]] virtual LinearSolverResult analyzeOrdered(const SparseStructure& s,
                                                           std::vector<int> order,
                                                           Ordering label) = 0;
+  /// The exact size and work of the factor, from the last analysis, when the solver counts
+  /// them there (as symbolicCost() would: same non-zeros and flops).
+  [[nodiscard]] virtual std::optional<CholeskyPrediction> analysedCost() const {
+    return std::nullopt;
+  }
 };
 
 /// First column of H (CSC of its stored triangle, complete blocks) whose vertex block column holds

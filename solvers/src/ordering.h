@@ -33,12 +33,21 @@ struct BlockGraph {
 /// The same with H's block graph already built (blockGraph(s)).
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s,
                                             const BlockGraph& g);
+/// orderColumns(kAmd, s, g), and AMD's own count of the factor's work on the block graph:
+/// block_work = sum over block columns of (blocks in the column, diagonal included)^2, an
+/// upper bound close to the exact count; -1 when there is none (this build has no
+/// SuiteSparse, or the graph is large enough for its orderings to be cached).
+[[nodiscard]] std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
+                                               double* block_work);
 /// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
 /// kAmd and kMetis order the block graph of J^T J.
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s);
 
-/// chooseOrdering() with H's block graph already built (blockGraph(s)).
-[[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s, const BlockGraph& g);
+/// chooseOrdering() with H's block graph already built (blockGraph(s)). With `exact`
+/// false, a small system (AMD's own bound on the work far below every threshold of the
+/// choice) gets no exact prediction: factor_nonzeros is -1 and flops that bound.
+[[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s, const BlockGraph& g,
+                                            bool exact = true);
 
 /// Inverse of a permutation.
 [[nodiscard]] std::vector<int> inversePermutation(const std::vector<int>& perm);

@@ -399,6 +399,12 @@ TEST(Solvers_Auto, PredictsTheFactorExactly) {
   const auto values = sys.values(sys.randomSpd(rng));
   ASSERT_TRUE(solver->factorize(values.data()).ok());
   EXPECT_EQ(static_cast<double>(solver->factorNonZeros()), c.nnz);
+  // A small system's figures are not computed at analysis: named before its first
+  // factorisation, auto computes them (above); after it, they are block-llt's own. The same.
+  auto named_late = registry.create("auto");
+  ASSERT_TRUE(named_late->analyze(sys.structure()).ok());
+  ASSERT_TRUE(named_late->factorize(values.data()).ok());
+  EXPECT_EQ(named_late->name(), solver->name());
   auto eigen = registry.create("eigen-ldlt:amd");
   ASSERT_TRUE(eigen->analyze(sys.structure()).ok());
   ASSERT_TRUE(eigen->factorize(values.data()).ok());
