@@ -264,7 +264,8 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
   double amd_work = -1.0;
   chosen.perm = detail::orderColumnsAmd(s, g, &amd_work);
   // d^3 sum_j (b_j + 1)^2 bounds the scalar flops (b_j: blocks below the diagonal in
-  // block column j, d: the largest block).
+  // block column j, d: the largest block); with AMD's b_j, a quarter of the threshold
+  // leaves room for its count's error.
   const double d = maxBlockSize(s);
   const double bound = d * d * d * amd_work;
   if (!exact && amd_work >= 0.0 && bound < kTryMetisFlops / 4) {

@@ -34,9 +34,9 @@ struct BlockGraph {
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s,
                                             const BlockGraph& g);
 /// orderColumns(kAmd, s, g), and AMD's own count of the factor's work on the block graph:
-/// block_work = sum over block columns of (blocks in the column, diagonal included)^2, an
-/// upper bound close to the exact count; -1 when there is none (this build has no
-/// SuiteSparse, or the graph is large enough for its orderings to be cached).
+/// block_work = sum over block columns of (blocks in the column, diagonal included)^2,
+/// close to the exact count; -1 when there is none (this build has no SuiteSparse, AMD
+/// set dense rows aside, or the graph is large enough for its orderings to be cached).
 [[nodiscard]] std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
                                                double* block_work);
 /// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
