@@ -143,7 +143,7 @@ StudySystem linearSystemOf(Graph& graph) {
   s.h_idx.assign(hs.row_idx, hs.row_idx + hs.nnz());
   s.block_starts.assign(hs.block_starts, hs.block_starts + hs.num_blocks + 1);
   ls.assembleHessian();
-  s.h_values = ls.hessianValues();
+  s.h_values.assign(ls.hessianValues().begin(), ls.hessianValues().end());
   s.gradient = ls.gradient();
   s.j = ls.jacobianStructure();
   s.j_ptr.assign(s.j.col_ptr, s.j.col_ptr + s.j.cols + 1);

@@ -43,7 +43,7 @@ struct BareFactorisation {
 /// cholmod_analyze_p with `perm`, then `repeats` timed cholmod_factorize calls, with the
 /// Common settings of the library's "cholmod" / "cholmod-simplicial" solvers
 /// (solvers/src/cholmod_solver.cpp).
-BareFactorisation timeCholmod(const SparseStructure& s, const std::vector<double>& values,
+BareFactorisation timeCholmod(const SparseStructure& s, const LargeVector<double>& values,
                               const std::vector<int>& perm, bool supernodal, int repeats) {
   cholmod_common c;
   cholmod_start(&c);

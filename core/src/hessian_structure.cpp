@@ -176,7 +176,7 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
       diag_pos_[c] = col_ptr_[c] + within[diag_at] + k;
     }
   }
-  std::vector<HessianBlockRef>().swap(refs_);
+  LargeVector<HessianBlockRef>().swap(refs_);
   std::vector<std::uint32_t>().swap(edge_ref_start_);
 }
 
@@ -239,7 +239,7 @@ SparseStructure HessianStructure::sparseStructure() const {
   return s;
 }
 
-void HessianStructure::assemble(std::vector<double>& values, std::vector<double>& gradient) {
+void HessianStructure::assemble(LargeVector<double>& values, std::vector<double>& gradient) {
   if (edge_ref_start_.size() != active_edges_.size()) buildRefs();
   values.assign(row_idx_.size(), 0.0);
   gradient.assign(static_cast<std::size_t>(n_), 0.0);

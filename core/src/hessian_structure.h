@@ -8,6 +8,7 @@
 
 #include "graphslam/core/edge.h"
 #include "graphslam/core/graph.h"
+#include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_solver.h"
 
 namespace graphslam::detail {
@@ -33,7 +34,7 @@ class HessianStructure {
 
   /// Zeroes H and b, then asks every active edge to add its blocks (their positions are
   /// found at the first call after a build).
-  void assemble(std::vector<double>& values, std::vector<double>& gradient);
+  void assemble(LargeVector<double>& values, std::vector<double>& gradient);
 
   /// Positions of the diagonal entries of H inside the value array.
   [[nodiscard]] const std::vector<int>& diagonalPositions() const { return diag_pos_; }
@@ -55,7 +56,7 @@ class HessianStructure {
   std::vector<Vertex*> active_vertices_;
   std::vector<int> block_starts_;
   std::vector<int> col_ptr_;
-  std::vector<int> row_idx_;
+  LargeVector<int> row_idx_;
   std::vector<int> diag_pos_;
   std::vector<Edge*> active_edges_;
   /// Block of every column.
@@ -66,7 +67,7 @@ class HessianStructure {
   std::vector<std::uint32_t> edge_b_start_;    // per active edge (and one past), into b_offsets_
   std::vector<int> b_offsets_;                 // per edge slot: its vertex's column, or -1
   std::vector<std::uint32_t> edge_ref_start_;  // per active edge, into refs_ (empty: not built)
-  std::vector<HessianBlockRef> refs_;
+  LargeVector<HessianBlockRef> refs_;
 };
 
 /// Removes the gauge freedom for the lifetime of the object: if `enabled`, no vertex is

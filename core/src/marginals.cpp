@@ -93,7 +93,7 @@ struct MarginalCovariance::Impl {
   SpMat permuted;
   Ldlt factor;
   bool pattern_done = false;
-  std::vector<double> values;
+  LargeVector<double> values;
   std::vector<double> gradient;
   // Selected inverse on the pattern of L: sigma[q] pairs with L's value q, plus diagonal.
   std::vector<double> sigma;

@@ -132,6 +132,10 @@ class CholmodSolver final : public detail::OrderedSolver {
           LinearSolverStatus::kFailure,
           "cholmod_analyze failed (status " + std::to_string(common_.status) + ")");
     }
+    // The analysis leaves a workspace of 6n integers and more (72 MB at 3M unknowns); the
+    // factorisation allocates the smaller one it needs itself, so this one would only add
+    // to the peak memory of the first factorisation.
+    cholmod_free_work(&common_);
     return LinearSolverResult::success();
   }
 

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -22,6 +23,7 @@
 #include "graphslam/core/file_util.h"
 #include "graphslam/core/fixed_edge.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
@@ -991,4 +993,60 @@ TEST(Core_Optimizer, SolverBlockOrderGivesTheSameSteps) {
   EXPECT_EQ(bad.status, TerminationStatus::kNumericalFailure);
   EXPECT_NE(bad.message.find("not a permutation of the 1499 vertices"), std::string::npos)
       << bad.message;
+}
+
+namespace {
+/// Whether the mapping of this process that holds `p` carries the transparent huge page
+/// advice ("hg" among its VmFlags in /proc/self/smaps); false when it is not found.
+bool advisedForHugePages(const void* p) {
+  std::ifstream smaps("/proc/self/smaps");
+  const auto at = reinterpret_cast<std::uintptr_t>(p);
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    unsigned long long from = 0, to = 0;
+    char dash = 0;
+    std::istringstream head(line);
+    if (head >> std::hex >> from >> dash >> to && dash == '-') {
+      inside = at >= from && at < to;
+    } else if (inside && line.rfind("VmFlags:", 0) == 0) {
+      return (" " + line + " ").find(" hg ") != std::string::npos;
+    }
+  }
+  return false;
+}
+
+struct alignas(32) Wide {
+  double v[4];
+};
+}  // namespace
+
+TEST(Core_LargeArray, SmallArraysAreOrdinaryLargeOnesAlignedAndAdvisedForHugePages) {
+  constexpr std::size_t kLarge = LargeArrayAllocator<double>::kHugePageMinBytes;
+  constexpr std::size_t kHuge = LargeArrayAllocator<double>::kHugePageMaxBytes;
+  // Below the threshold: operator new with the element's alignment.
+  LargeVector<Wide> small(10);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % alignof(Wide), 0u);
+  // Growing across the threshold keeps the contents; the large array is zero-initialised
+  // where resize() says so.
+  LargeVector<double> v;
+  for (std::size_t i = 0; i < kLarge / sizeof(double) + 1000; ++i) v.push_back(0.5 * i);
+  for (std::size_t i = 0; i < v.size(); i += 997) ASSERT_EQ(v[i], 0.5 * i);
+  v.resize(3 * kLarge / sizeof(double), 0.0);
+  EXPECT_EQ(v.back(), 0.0);
+  EXPECT_EQ(v[kLarge / sizeof(double)], 0.5 * (kLarge / sizeof(double)));
+  const LargeVector<double> copy = v;
+  EXPECT_TRUE(copy == v);
+#if defined(__linux__)
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % (std::uintptr_t{2} << 20), 0u);
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string setting;
+  std::getline(thp, setting);
+  if (!setting.empty() && setting.find("[never]") == std::string::npos) {
+    EXPECT_TRUE(advisedForHugePages(v.data())) << "THP setting: " << setting;
+    EXPECT_FALSE(advisedForHugePages(small.data()));
+    const LargeVector<char> beyond(kHuge + 1);
+    EXPECT_FALSE(advisedForHugePages(beyond.data()));
+  }
+#endif
 }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_solver.h"
 
 namespace graphslam {
@@ -63,8 +64,8 @@ class LinearSystem {
 
   [[nodiscard]] int dimension() const;
   [[nodiscard]] SparseStructure hessianStructure() const;
-  [[nodiscard]] const std::vector<double>& hessianValues() const { return h_values_; }
-  [[nodiscard]] std::vector<double>& mutableHessianValues() { return h_values_; }
+  [[nodiscard]] const LargeVector<double>& hessianValues() const { return h_values_; }
+  [[nodiscard]] LargeVector<double>& mutableHessianValues() { return h_values_; }
   /// Positions of the diagonal entries of H inside the value array.
   [[nodiscard]] const std::vector<int>& hessianDiagonalPositions() const;
 
@@ -90,7 +91,7 @@ class LinearSystem {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::vector<double> h_values_;
+  LargeVector<double> h_values_;
   std::vector<double> j_values_;
   std::vector<double> residual_;
   std::vector<double> gradient_;
