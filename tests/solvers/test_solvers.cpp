@@ -489,6 +489,80 @@ TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
   }
 }
 
+/// Off-diagonal blocks of L when the block graph of `pairs` (nb blocks) is eliminated in
+/// `order`: each block's neighbours not yet eliminated, which then become adjacent.
+int eliminationFill(int nb, const std::vector<std::pair<int, int>>& pairs,
+                    const std::vector<int>& order) {
+  std::vector<std::set<int>> adj(static_cast<std::size_t>(nb));
+  for (const auto& [a, b] : pairs) {
+    adj[a].insert(b);
+    adj[b].insert(a);
+  }
+  std::vector<char> done(static_cast<std::size_t>(nb), 0);
+  int fill = 0;
+  for (int v : order) {
+    std::vector<int> left;
+    for (int u : adj[v]) {
+      if (!done[u]) left.push_back(u);
+    }
+    fill += static_cast<int>(left.size());
+    for (int a : left) {
+      for (int b : left) {
+        if (a != b) adj[a].insert(b);
+      }
+    }
+    done[v] = 1;
+  }
+  return fill;
+}
+
+TEST(Solvers_Ordering, AmdEliminatesChainsRingsAndLeavesWithoutExtraFill) {
+  // Blocks of at most two neighbours are eliminated before AMD orders the rest. Components:
+  // a ring of 30 with a chain of 10 hanging from it (fill 2 * 30 - 3 + 10), a triangle
+  // (3), and a complete graph of 5 (AMD's part, renumbered: 4 + 3 + 2 + 1) with a chain of
+  // 3 (3). Each figure is the least fill of its component.
+  std::vector<std::pair<int, int>> pairs;
+  for (int k = 0; k < 30; ++k) pairs.emplace_back(k, (k + 1) % 30);
+  for (int k = 30; k < 40; ++k) pairs.emplace_back(k, k == 30 ? 5 : k - 1);
+  pairs.insert(pairs.end(), {{40, 41}, {41, 42}, {40, 42}});
+  for (int a = 43; a < 48; ++a) {
+    for (int b = a + 1; b < 48; ++b) pairs.emplace_back(a, b);
+  }
+  pairs.insert(pairs.end(), {{45, 48}, {48, 49}, {49, 50}});
+  const int nb = 51, bs = 3;
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) rows[b].push_back(b);
+  for (const auto& [a, b] : pairs) rows[std::max(a, b)].push_back(std::min(a, b));
+  std::vector<int> block_starts, col_ptr{0}, row_idx;
+  for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
+  for (int cb = 0; cb < nb; ++cb) {
+    std::sort(rows[cb].begin(), rows[cb].end());
+    for (int k = 0; k < bs; ++k) {
+      for (int rb : rows[cb]) {
+        for (int i = 0; i < bs; ++i) row_idx.push_back(rb * bs + i);
+      }
+      col_ptr.push_back(static_cast<int>(row_idx.size()));
+    }
+  }
+  SparseStructure s;
+  s.n = nb * bs;
+  s.col_ptr = col_ptr.data();
+  s.row_idx = row_idx.data();
+  s.block_starts = block_starts.data();
+  s.num_blocks = nb;
+  const std::vector<int> perm = solvers::fillReducingOrdering(Ordering::kAmd, s);
+  ASSERT_EQ(perm.size(), static_cast<std::size_t>(s.n));
+  std::vector<int> order;
+  for (std::size_t k = 0; k < perm.size(); k += bs) {
+    for (int i = 0; i < bs; ++i) ASSERT_EQ(perm[k + i], perm[k] + i);  // whole blocks
+    order.push_back(perm[k] / bs);
+  }
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int b = 0; b < nb; ++b) ASSERT_EQ(sorted[b], b);
+  EXPECT_EQ(eliminationFill(nb, pairs, order), (2 * 30 - 3 + 10) + 3 + (4 + 3 + 2 + 1) + 3);
+}
+
 TEST(Solvers_Auto, LargeGridGetsNestedDissectionAndSupernodes) {
   if (!solvers::haveSuiteSparse()) GTEST_SKIP() << "built without SuiteSparse (no METIS)";
   // A 2D grid of 3x3 blocks (a pose graph revisiting a city): AMD fills it badly.
