@@ -418,21 +418,13 @@ TEST(Solvers_Auto, PredictsTheFactorExactly) {
   }
 }
 
-/// A random block pattern (a chain plus one random link per block) built in linear time.
-struct LargeBlockPattern {
+/// The block pattern with the row blocks `rows[c]` (each <= c; sorted and made unique
+/// here) in block column c: upper triangle, complete bs x bs blocks.
+struct BlockRowsPattern {
   int nb, bs;
   std::vector<int> block_starts, col_ptr{0}, row_idx;
-  LargeBlockPattern(int num_blocks, int block_size, unsigned seed)
-      : nb(num_blocks), bs(block_size) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> pick(0, nb - 1);
-    std::vector<std::vector<int>> rows(static_cast<std::size_t>(nb));  // row blocks <= column
-    for (int b = 0; b < nb; ++b) {
-      rows[b].push_back(b);
-      if (b > 0) rows[b].push_back(b - 1);
-      const int a = pick(rng), c = pick(rng);
-      if (a != c) rows[std::max(a, c)].push_back(std::min(a, c));
-    }
+  BlockRowsPattern(std::vector<std::vector<int>> rows, int block_size)
+      : nb(static_cast<int>(rows.size())), bs(block_size) {
     for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
     for (int cb = 0; cb < nb; ++cb) {
       auto& r = rows[cb];
@@ -457,6 +449,20 @@ struct LargeBlockPattern {
   }
 };
 
+/// A random block pattern (a chain plus one random link per block) built in linear time.
+BlockRowsPattern largeBlockPattern(int nb, int bs, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, nb - 1);
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(nb));  // row blocks <= column
+  for (int b = 0; b < nb; ++b) {
+    rows[b].push_back(b);
+    if (b > 0) rows[b].push_back(b - 1);
+    const int a = pick(rng), c = pick(rng);
+    if (a != c) rows[std::max(a, c)].push_back(std::min(a, c));
+  }
+  return BlockRowsPattern(std::move(rows), bs);
+}
+
 TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
   // The global initial guess (2x2 blocks) and the optimizer (3x3) order one pose graph;
   // from 50000 blocks on, the block ordering is kept for the next request with the same
@@ -465,7 +471,9 @@ TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
   if (solvers::haveSuiteSparse()) orderings.push_back(Ordering::kMetis);
   for (Ordering o : orderings) {
     SCOPED_TRACE(toString(o));
-    const LargeBlockPattern two(60000, 2, 5), three(60000, 3, 5), other(60000, 3, 6);
+    const BlockRowsPattern two = largeBlockPattern(60000, 2, 5),
+                           three = largeBlockPattern(60000, 3, 5),
+                           other = largeBlockPattern(60000, 3, 6);
     const auto blocks_of = [](const std::vector<int>& perm, int bs) {
       std::vector<int> order;
       for (std::size_t k = 0; k < perm.size(); k += static_cast<std::size_t>(bs)) {
@@ -533,23 +541,8 @@ TEST(Solvers_Ordering, AmdEliminatesChainsRingsAndLeavesWithoutExtraFill) {
   std::vector<std::vector<int>> rows(static_cast<std::size_t>(nb));
   for (int b = 0; b < nb; ++b) rows[b].push_back(b);
   for (const auto& [a, b] : pairs) rows[std::max(a, b)].push_back(std::min(a, b));
-  std::vector<int> block_starts, col_ptr{0}, row_idx;
-  for (int b = 0; b <= nb; ++b) block_starts.push_back(b * bs);
-  for (int cb = 0; cb < nb; ++cb) {
-    std::sort(rows[cb].begin(), rows[cb].end());
-    for (int k = 0; k < bs; ++k) {
-      for (int rb : rows[cb]) {
-        for (int i = 0; i < bs; ++i) row_idx.push_back(rb * bs + i);
-      }
-      col_ptr.push_back(static_cast<int>(row_idx.size()));
-    }
-  }
-  SparseStructure s;
-  s.n = nb * bs;
-  s.col_ptr = col_ptr.data();
-  s.row_idx = row_idx.data();
-  s.block_starts = block_starts.data();
-  s.num_blocks = nb;
+  const BlockRowsPattern pattern(std::move(rows), bs);
+  const SparseStructure s = pattern.structure();
   const std::vector<int> perm = solvers::fillReducingOrdering(Ordering::kAmd, s);
   ASSERT_EQ(perm.size(), static_cast<std::size_t>(s.n));
   std::vector<int> order;
