@@ -195,6 +195,12 @@ void HessianStructure::buildRefs() {
   // is (bj, bi); found by its first row in the column's sorted rows.
   auto block_ref = [&](int bi, int bj) {
     HessianBlockRef ref;
+    if (bi == bj) {  // a diagonal block: where diagonalPositions() says, no search
+      const int c = block_starts_[bi];
+      ref.offset = diag_pos_[c];
+      ref.stride = col_ptr_[c + 1] - col_ptr_[c];
+      return ref;
+    }
     const int row = lower_ ? std::max(bi, bj) : std::min(bi, bj);
     const int column = lower_ ? std::min(bi, bj) : std::max(bi, bj);
     ref.transposed = row != bi;

@@ -19,7 +19,6 @@
 #include "common.h"
 #include "graphslam/core/large_array.h"
 #include "ordering.h"
-#include "symbolic.h"
 
 namespace graphslam::solvers {
 
@@ -173,13 +172,13 @@ class BlockCholesky final : public detail::OrderedSolver {
       const auto first = a_.begin() + a_ptr_[k], last = a_.begin() + a_ptr_[k + 1];
       if (!std::is_sorted(first, last, by_row)) std::sort(first, last, by_row);
     }
-    // Elimination tree and the row patterns of L (row subtrees) in a topological order:
-    // every path up the tree is stacked in front of those found before it (which it ends
-    // in), so each row i comes after every row below it in the tree, as the up-looking
-    // factorisation needs; no sort.
-    const std::vector<int> parent = detail::eliminationTree(nb_, [&](int k, auto&& visit) {
-      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) visit(a_[q].row);
-    });
+    // Elimination tree and the row patterns of L (row subtrees) in one pass, as LDL's
+    // symbolic analysis does: row k's pattern is every node on the paths up the tree from
+    // the rows of A(k, 0..k-1) until k or a node already met; a node on such a path
+    // without a parent yet has k as its parent. Each path is stacked in front of those
+    // found before it (which it ends in), so each row i comes after every row below it
+    // in the tree, as the up-looking factorisation needs; no sort.
+    std::vector<int> parent(static_cast<std::size_t>(nb_), -1);
     std::vector<int> flag(static_cast<std::size_t>(nb_), -1);
     row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
     row_idx_.clear();
@@ -191,7 +190,8 @@ class BlockCholesky final : public detail::OrderedSolver {
       int top = nb_;
       for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
         int len = 0;
-        for (int i = a_[q].row; i < k && flag[i] != k; i = parent[i]) {
+        for (int i = a_[q].row; flag[i] != k; i = parent[i]) {
+          if (parent[i] < 0) parent[i] = k;
           flag[i] = k;
           path[len++] = i;
         }
