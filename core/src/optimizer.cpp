@@ -284,9 +284,21 @@ struct Optimizer::Impl {
   /// Gauss-Newton step's halved again and again, is tried until the quadratic model
   /// predicts the decrease of chi2 within kDoglegAgreement (each trial: one evaluation of
   /// chi2); after kDoglegMaxHalvings the lowest chi2 seen is taken, if it is below gn_chi2.
-  /// Applies the step taken and returns {its chi2, halvings} ({gn_chi2, 0}: the
-  /// undamped step, when no trial is lower or the path is undefined).
-  std::pair<double, int> firstStepDogleg(Graph& graph, double chi2, double gn_chi2) {
+  /// The first trial skips a halving when the Gauss-Newton step's own chi2 says so:
+  /// chi2 interpolated along that step by a parabola (chi2 and its slope at the origin,
+  /// gn_chi2 at the step) has its minimum at 1 / (2 - rho) of the step, rho the step's
+  /// actual over predicted decrease (Dennis and Schnabel's backtracking rule). At or below
+  /// a quarter (rho <= -2: the step raised chi2 by at least twice the decrease its model
+  /// promised), the first trial is at a quarter; the trust radius never shrinks more than
+  /// four times at once (Nocedal and Wright's factor).
+  /// Applies the step taken and returns {its chi2, halvings, trials} ({gn_chi2, 0, ...}:
+  /// the undamped step, when no trial is lower or the path is undefined).
+  struct DoglegResult {
+    double chi2;
+    int halvings;
+    int trials;
+  };
+  DoglegResult firstStepDogleg(Graph& graph, double chi2, double gn_chi2) {
     const int n = structure.dimension();
     const auto& g = structure.gradient();
     const auto& h = structure.hessianValues();
@@ -306,7 +318,7 @@ struct Optimizer::Impl {
     const double a = gdg / chc;
     if (!(a > 0.0) || !std::isfinite(a)) {
       applyUpdate();
-      return {gn_chi2, 0};
+      return {gn_chi2, 0, 0};
     }
     for (int i = 0; i < n; ++i) cauchy[i] *= a;
     chc *= a * a;
@@ -341,18 +353,25 @@ struct Optimizer::Impl {
       const double php = (1.0 - t) * (1.0 - t) * chc - 2.0 * t * (1.0 - t) * gc - t * t * gs;
       predicted = -2.0 * gp - php;
     };
+    // gs = g^T s < 0 is minus the model's decrease of chi2 by s; rho <= -2 is
+    // gn_chi2 - chi2 >= 2 (-gs). A non-finite gn_chi2 counts as that too.
+    const bool far_off = !(gn_chi2 - chi2 < -2.0 * gs);
     double best_chi2 = gn_chi2;
     int best = 0;
-    for (int k = 1; k <= kDoglegMaxHalvings; ++k) {
+    int trials = 0;
+    for (int k = far_off ? 2 : 1; k <= kDoglegMaxHalvings; ++k) {
       double predicted = 0.0;
       point(std::ldexp(gn_norm, -k), predicted);
       applyUpdate();
       const double trial = evalChi2(graph);
+      ++trials;
       if (trial < best_chi2) {
         best_chi2 = trial;
         best = k;
       }
-      if (std::abs(1.0 - (chi2 - trial) / predicted) <= kDoglegAgreement) return {trial, k};
+      if (std::abs(1.0 - (chi2 - trial) / predicted) <= kDoglegAgreement) {
+        return {trial, k, trials};
+      }
       undoUpdate();
     }
     if (best == 0) {
@@ -362,7 +381,7 @@ struct Optimizer::Impl {
       point(std::ldexp(gn_norm, -best), predicted);
     }
     applyUpdate();
-    return {evalChi2(graph), best};
+    return {evalChi2(graph), best, trials};
   }
 
   void applyUpdate() {
@@ -609,9 +628,10 @@ Summary Optimizer::optimize() {
         // agrees, from the same factorisation (Options::first_step_dogleg).
         const auto td = Clock::now();
         im.undoUpdate();
-        const auto [dogleg_chi2, halvings] = im.firstStepDogleg(graph_, chi2, new_chi2);
-        new_chi2 = dogleg_chi2;
-        st.dogleg_halvings = halvings;
+        const Impl::DoglegResult dogleg = im.firstStepDogleg(graph_, chi2, new_chi2);
+        new_chi2 = dogleg.chi2;
+        st.dogleg_halvings = dogleg.halvings;
+        st.dogleg_trials = dogleg.trials;
         st.time.solve += seconds(td, Clock::now());
       }
       if (!damped) {

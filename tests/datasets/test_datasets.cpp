@@ -109,6 +109,19 @@ INSTANTIATE_TEST_SUITE_P(Public, Datasets_Regression, ::testing::ValuesIn(cases(
                            return s + (info.param.global_init ? "_default" : "_gn_from_file");
                          });
 
+/// One iteration of the optimizer with `options` on `data` from the global initial guess
+/// (the tool's default start), into `summary`.
+void firstIteration(Dataset& data, Optimizer::Options options, Summary& summary) {
+  ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
+  setLogLevel(LogLevel::kError);
+  const auto report = types_slam2d::initializeGlobal(data.loaded.graph);
+  ASSERT_TRUE(report.message.empty()) << report.message;
+  options.max_iterations = 1;
+  Optimizer optimizer(data.loaded.graph, data.solvers, options);
+  summary = optimizer.optimize();
+  ASSERT_EQ(summary.per_iteration.size(), 1u);
+}
+
 // m3500b from the global initialisation: the first undamped step raises chi2 (7743 ->
 // 36583); the default optimizer then takes a dogleg step from the same factorisation
 // (Options::first_step_dogleg), and that step alone reaches the best known chi2.
@@ -116,16 +129,11 @@ TEST(Datasets_FirstStep, M3500bRisingFirstStepBecomesDogleg) {
   for (const bool dogleg : {true, false}) {
     Dataset data("m3500b.g2o");
     if (!data.present()) GTEST_SKIP() << data.missing();
-    ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
-    setLogLevel(LogLevel::kError);
-    const auto report = types_slam2d::initializeGlobal(data.loaded.graph);
-    ASSERT_TRUE(report.message.empty()) << report.message;
     Optimizer::Options options;
     options.first_step_dogleg = dogleg;
-    options.max_iterations = 1;
-    Optimizer optimizer(data.loaded.graph, data.solvers, options);
-    const Summary s = optimizer.optimize();
-    ASSERT_EQ(s.per_iteration.size(), 1u);
+    Summary s;
+    firstIteration(data, options, s);
+    if (HasFatalFailure()) return;
     const IterationStats& first = s.per_iteration[0];
     std::printf(
         "m3500b, first_step_dogleg %d: chi2 %.6g -> %.6g, %d factorisation(s), %d halvings\n",
@@ -137,12 +145,32 @@ TEST(Datasets_FirstStep, M3500bRisingFirstStepBecomesDogleg) {
       // the best chi2 seen).
       EXPECT_NEAR(data.loaded.graph.chi2(), first.chi2, 1e-9 * first.chi2);
       EXPECT_EQ(first.dogleg_halvings, 2);
+      // The Gauss-Newton step raised chi2 by 5.1 times the decrease its model promised:
+      // the first trial is already at a quarter of it (firstStepDogleg).
+      EXPECT_EQ(first.dogleg_trials, 1);
       EXPECT_LE(first.chi2, 4212.0166);
     } else {
       EXPECT_EQ(first.dogleg_halvings, 0);
+      EXPECT_EQ(first.dogleg_trials, 0);
       EXPECT_GT(first.chi2, 30000.0);  // the undamped step: 36583
     }
   }
+}
+
+// mit from the global initialisation: the first undamped step raises chi2 only just
+// (71.545 -> 71.570, its model promised a decrease of 30.3), so the dogleg's first trial
+// is at half the Gauss-Newton step, where the model agrees (50.43).
+TEST(Datasets_FirstStep, MitSlightlyRisingFirstStepTriesHalfFirst) {
+  Dataset data("mit.g2o");
+  if (!data.present()) GTEST_SKIP() << data.missing();
+  Summary s;
+  firstIteration(data, Optimizer::Options{}, s);
+  if (HasFatalFailure()) return;
+  const IterationStats& first = s.per_iteration[0];
+  EXPECT_NEAR(s.initial_chi2, 71.5448, 1e-3);
+  EXPECT_EQ(first.dogleg_halvings, 1);
+  EXPECT_EQ(first.dogleg_trials, 1);
+  EXPECT_NEAR(first.chi2, 50.4336, 1e-3);
 }
 
 // From victoria_park's own estimates the default optimizer's undamped phase ends far from

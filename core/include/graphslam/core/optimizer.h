@@ -62,6 +62,9 @@ struct IterationStats {
   /// First iteration's dogleg step (Options::first_step_dogleg): its trust radius was
   /// the Gauss-Newton step's length / 2^dogleg_halvings; 0 otherwise.
   int dogleg_halvings = 0;
+  /// Points of that dogleg path whose chi2 was evaluated (the first may already be at a
+  /// quarter of the Gauss-Newton step); 0 without a dogleg step.
+  int dogleg_trials = 0;
   bool accepted = true;  ///< false when LM found no decreasing step
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
@@ -129,9 +132,11 @@ class Optimizer {
     /// steepest descent scaled by diag(H) to its Cauchy point, then towards the
     /// Gauss-Newton step, at a trust radius halved from the Gauss-Newton step's length
     /// until the quadratic model predicts the decrease of chi2 within 25 % (one
-    /// evaluation of chi2 per halving). From the initial estimate the model can be far
-    /// off: m3500b goes 7743 -> 36583 undamped, 4050 by the dogleg step (two halvings),
-    /// below its best known 4212.0166. Files whose first step lowers chi2, and
+    /// evaluation of chi2 per trial; the first trial is at a quarter when chi2 along the
+    /// Gauss-Newton step, interpolated by a parabola, is lowest at a quarter of it or
+    /// less). From the initial estimate the model can be far off: m3500b goes 7743 ->
+    /// 36583 undamped, 4050 by the dogleg step (a quarter, its first trial), below its
+    /// best known 4212.0166. Files whose first step lowers chi2, and
     /// Jacobian-form solvers, are not affected. false: keep the undamped step.
     bool first_step_dogleg = true;
     /// LM: retries (factorisations with larger damping) before giving up.
