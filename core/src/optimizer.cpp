@@ -196,20 +196,26 @@ struct Optimizer::Impl {
   }
 
   /// y = H x, H the assembled Hessian (its stored triangle; the other triangles of the
-  /// diagonal blocks, also stored, are skipped).
+  /// diagonal blocks, also stored, are skipped: in every column they are the entries past
+  /// the diagonal of an upper H, before it in a lower one).
   void hessianProduct(const std::vector<double>& x, std::vector<double>& y) const {
     const SparseStructure h = structure.hessianStructure();
     const double* v = structure.hessianValues().data();
+    const int* diag = structure.hessianDiagonalPositions().data();
     y.assign(x.size(), 0.0);
+    const double* xv = x.data();
+    double* yv = y.data();
     for (int c = 0; c < h.n; ++c) {
-      double yc = 0.0;
-      for (int k = h.col_ptr[c]; k < h.col_ptr[c + 1]; ++k) {
+      const int first = h.lower ? diag[c] + 1 : h.col_ptr[c];
+      const int last = h.lower ? h.col_ptr[c + 1] : diag[c];
+      const double xc = xv[c];
+      double yc = v[diag[c]] * xc;
+      for (int k = first; k < last; ++k) {
         const int r = h.row_idx[k];
-        if (h.lower ? r < c : r > c) continue;
-        yc += v[k] * x[r];
-        if (r != c) y[r] += v[k] * x[c];
+        yc += v[k] * xv[r];
+        yv[r] += v[k] * xc;
       }
-      y[c] += yc;
+      yv[c] += yc;
     }
   }
 
