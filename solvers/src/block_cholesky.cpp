@@ -136,8 +136,9 @@ class BlockCholesky final : public detail::OrderedSolver {
       old_.push_back(b);
     }
     // A's upper blocks per new column k: (new row i <= k, first value, stride, shape,
-    // transposed), rows ascending. Counted, then filled; each column sorted in place (a
-    // handful of blocks).
+    // transposed). Counted, then filled; the rows of a column stay in H's order, unsorted:
+    // the row-pattern pass finds a topological order from any order of them (as
+    // LDL's and CSparse's reach do), and the factorisation scatters them.
     a_ptr_.assign(static_cast<std::size_t>(nb_) + 2, 0);
     auto for_blocks = [&](auto&& visit) {
       for (int c = 0; c < nb_; ++c) {
@@ -167,11 +168,6 @@ class BlockCholesky final : public detail::OrderedSolver {
       }
     });
     a_ptr_.pop_back();
-    const auto by_row = [](const AEntry& x, const AEntry& y) { return x.row < y.row; };
-    for (int k = 0; k < nb_; ++k) {  // already sorted in the natural order
-      const auto first = a_.begin() + a_ptr_[k], last = a_.begin() + a_ptr_[k + 1];
-      if (!std::is_sorted(first, last, by_row)) std::sort(first, last, by_row);
-    }
     // Elimination tree and the row patterns of L (row subtrees) in one pass, as LDL's
     // symbolic analysis does: row k's pattern is every node on the paths up the tree from
     // the rows of A(k, 0..k-1) until k or a node already met; a node on such a path
