@@ -212,8 +212,12 @@ void HessianStructure::buildRefs() {
     ref.stride = col_ptr_[c + 1] - col_ptr_[c];
     return ref;
   };
+  // Slot counts from the structure's own arrays: the edges themselves are not visited.
   std::size_t num_refs = 0;
-  for (const Edge* e : active_edges_) num_refs += e->numVertices() * (e->numVertices() + 1) / 2;
+  for (std::size_t k = 0; k < active_edges_.size(); ++k) {
+    const std::size_t n = edge_b_start_[k + 1] - edge_b_start_[k];
+    num_refs += n * (n + 1) / 2;
+  }
   refs_.clear();
   refs_.reserve(num_refs);
   edge_ref_start_.clear();
@@ -291,16 +295,16 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
   const std::vector<int> block = blockOfColumn();
   std::vector<int> slots;
   for (std::size_t k = 0; k < active_edges_.size(); ++k) {
-    const Edge* e = active_edges_[k];
     slots.clear();
     // The columns recorded at build (not hessianIndex(): another structure on the same
-    // graph may have set it since).
-    for (std::size_t s = 0; s < e->numVertices(); ++s) {
+    // graph may have set it since); the edges themselves are not visited.
+    const std::size_t n = edge_b_start_[k + 1] - edge_b_start_[k];
+    for (std::size_t s = 0; s < n; ++s) {
       const int col = b_offsets_[edge_b_start_[k] + s];
       if (col >= 0) slots.push_back(block[col]);
     }
     for (std::size_t j = 1; j < slots.size(); ++j) uf.unite(slots[0], slots[j]);
-    if (slots.size() < e->numVertices() || e->numVertices() == 1) anchored[slots[0]] = 1;
+    if (slots.size() < n || n == 1) anchored[slots[0]] = 1;
   }
   std::vector<char> root_anchored(active.size(), 0);
   for (std::size_t i = 0; i < active.size(); ++i) {

@@ -180,11 +180,12 @@ void LinearSystem::linearize() {
   Impl& im = *impl_;
   const auto& edges = im.hessian.activeEdges();
   if (!im.classified) {
-    // Serial, and learns which edges perturb vertices in place.
-    for (Edge* e : edges) e->linearizeOplus();
+    // Serial, and learns which edges perturb vertices in place (asked right after each
+    // edge's linearisation, while the edge is in the cache).
     im.parallel_edges.clear();
     im.serial_edges.clear();
     for (Edge* e : edges) {
+      e->linearizeOplus();
       if (e->perturbsVerticesInPlace()) im.serial_edges.push_back(e);
     }
     // Without serial edges every active edge runs in parallel: no copy of the list.
