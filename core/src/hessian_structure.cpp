@@ -90,8 +90,11 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   // graph may set their hessianIndex later). The block positions follow at the first
   // assembly (buildRefs): a structure rebuilt in a solver's order before any assembly
   // never computes them twice.
+  // Room for binary edges (the usual kind; others make the arrays grow).
   b_offsets_.clear();
+  b_offsets_.reserve(2 * graph.edges().size());
   edge_b_start_.clear();
+  edge_b_start_.reserve(graph.edges().size() + 1);
   for (const auto& e : graph.edges()) {
     blocks.clear();
     for (std::size_t s = 0; s < e->numVertices(); ++s) blocks.push_back(block_of(e->vertex(s)));
@@ -132,8 +135,11 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
     b_offsets_.swap(sorted_offsets);
     edge_b_start_.swap(sorted_start);
   }
-  std::vector<int>(b_offsets_).swap(b_offsets_);  // exact size (large graphs)
-  std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
+  // Exact sizes (large graphs), copied only when the room reserved was not all used.
+  if (b_offsets_.capacity() != b_offsets_.size()) std::vector<int>(b_offsets_).swap(b_offsets_);
+  if (edge_b_start_.capacity() != edge_b_start_.size()) {
+    std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
+  }
   const BlockPattern pattern =
       lower_ ? transposed(BlockPattern::fromPairs(nb, pairs)) : BlockPattern::fromPairs(nb, pairs);
 
