@@ -181,12 +181,13 @@ class Args {
     }
   }
 
- private:
+  /// A bad argument: the message and the usage on stderr, exit kExitBadInput.
   [[noreturn]] void fail(const std::string& msg) const {
     std::fprintf(stderr, "error: %s\n%s\n", msg.c_str(), usage_);
     std::exit(kExitBadInput);
   }
 
+ private:
   const char* usage_;
   std::string file_;
   std::vector<std::pair<std::string, std::string>> options_;

@@ -32,7 +32,7 @@ def grab(pattern, text, cast=float, default=None):
     return cast(m.group(1)) if m else default
 
 
-def solve_one(tool, limit_bin, limit_max, n, seed, threads, env, work):
+def solve_one(tool, limit_bin, limit_max, simplicial_max, n, seed, threads, env, work):
     graph, truth, out = (os.path.join(work, f"{k}{n}.g2o") for k in ("m", "gt", "o"))
     code, _, err, _, _ = run([tool, "simulate", "-o", graph, "--truth", truth, "--poses", str(n),
                               "--seed", str(seed)], env)
@@ -73,8 +73,9 @@ def solve_one(tool, limit_bin, limit_max, n, seed, threads, env, work):
         row["per_fact"] = work / per
         row["fact_per_iter"] = sum(float(r["time_factorize"]) for r in its) / per
         if n <= limit_max and os.access(limit_bin, os.X_OK):
+            kinds = "supernodal,simplicial" if n <= simplicial_max else "supernodal"
             lcode, lout, lerr, _, _ = run([limit_bin, graph, "--solvers", "auto",
-                                           "--repeats", "3"], env)
+                                           "--repeats", "3", "--kinds", kinds], env)
             if lcode == 0:
                 row["limit"] = grab(r"^limit .*factorize_s=(\S+)", lout)
             else:
@@ -96,9 +97,13 @@ def main():
     ap.add_argument("--seed", type=int, default=42)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--doc", default=os.path.join(REPO, "docs", "BENCHMARKS.md"))
-    ap.add_argument("--limit-max", type=int, default=100000,
+    ap.add_argument("--limit-max", type=int, default=1000000,
                     help="run graphslam_factor_limit (the bare CHOLMOD factorisation) up to "
-                         "this many poses (its simplicial variant is slow on larger graphs)")
+                         "this many poses")
+    ap.add_argument("--simplicial-max", type=int, default=100000,
+                    help="time CHOLMOD's simplicial factorisation for the limit up to this many "
+                         "poses (above, supernodal only: simplicial takes minutes there and "
+                         "is several times slower)")
     args = ap.parse_args()
     tool = os.path.join(args.build, "apps", "graphslam")
     limit_bin = os.path.join(args.build, "bench", "graphslam_factor_limit")
@@ -107,8 +112,8 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as work:
         for n in (int(s) for s in args.sizes.split(",")):
-            row = solve_one(tool, limit_bin, args.limit_max, n, args.seed, args.threads, env,
-                            work)
+            row = solve_one(tool, limit_bin, args.limit_max, args.simplicial_max, n, args.seed,
+                            args.threads, env, work)
             print(row, flush=True)
             rows.append(row)
 
@@ -132,7 +137,8 @@ def main():
          "time of one factorisation (the first of a factor "
          "includes first-touch page faults of its memory); *limit s* one bare `cholmod_factorize` of H at the optimum with the same "
          "ordering (`graphslam_factor_limit --solvers auto`, the faster of supernodal and "
-         "simplicial; run up to --limit-max poses).", "",
+         f"simplicial; supernodal only above {args.simplicial_max} poses; run up to "
+         f"{args.limit_max} poses).", "",
          "| poses | edges | unknowns | solver | nnz(L) | iterations | chi2 initial -> final "
          "| init s | optimize s | iteration s | per factorisation s | factorisation s | limit s "
          "| iteration / limit | per factorisation / limit | wall s | peak MiB | APE rmse m "
