@@ -168,7 +168,8 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   int* out = row_idx_.data();
   for (int j = 0; j < nb; ++j) {
     const int dj = block_starts_[j + 1] - block_starts_[j];
-    const int diag_at = pattern.find(j, j);
+    // The diagonal block closes an upper column (rows <= j, sorted) and opens a lower one.
+    const int diag_at = lower_ ? pattern.ptr[j] : pattern.ptr[j + 1] - 1;
     // The first column's rows, then the same rows for the block's other columns.
     const int* first = out;
     for (int q = pattern.ptr[j]; q < pattern.ptr[j + 1]; ++q) {
