@@ -1021,6 +1021,32 @@ struct alignas(32) Wide {
 };
 }  // namespace
 
+#if defined(__linux__)
+// A freed huge-page array's mapping serves the next array of the same rounded length (its
+// pages are faulted in already); the mappings kept stay within their bound.
+TEST(Core_LargeArray, FreedMappingsServeTheNextArrayOfTheSameRoundedLength) {
+  constexpr std::size_t kLarge = LargeArrayAllocator<double>::kHugePageMinBytes;
+  const std::size_t n = kLarge / sizeof(double) + 10;  // rounded to 2 MiB
+  const double* first = nullptr;
+  {
+    LargeVector<double> a(n, 1.0);
+    first = a.data();
+  }
+  EXPECT_GE(detail::retainedLargeArrayBytes(), std::size_t{2} << 20);
+  LargeVector<double> b(n + 1000, 2.0);  // the same rounded length
+  EXPECT_EQ(b.data(), first);
+  EXPECT_EQ(b.front(), 2.0);
+  EXPECT_EQ(b.back(), 2.0);
+  const LargeVector<double> c((std::size_t{3} << 20) / sizeof(double));  // 4 MiB rounded
+  EXPECT_NE(c.data(), first);
+  {
+    std::vector<LargeVector<char>> many;
+    for (int i = 0; i < 20; ++i) many.emplace_back(std::size_t{3} << 20);
+  }
+  EXPECT_LE(detail::retainedLargeArrayBytes(), std::size_t{16} << 20);
+}
+#endif
+
 TEST(Core_LargeArray, SmallArraysAreOrdinaryLargeOnesAlignedAndAdvisedForHugePages) {
   constexpr std::size_t kLarge = LargeArrayAllocator<double>::kHugePageMinBytes;
   constexpr std::size_t kHuge = LargeArrayAllocator<double>::kHugePageMaxBytes;
