@@ -310,12 +310,13 @@ struct Optimizer::Impl {
     const auto& h = structure.hessianValues();
     const auto& diag = structure.hessianDiagonalPositions();
     gn_dx = dx;
+    const auto scale = [&](int i) { return std::clamp(h[diag[i]], 1e-6, 1e32); };  // D's entries
     // Cauchy point c = -a D^-1 g, a = g^T D^-1 g / (D^-1 g)^T H (D^-1 g).
     cauchy.resize(static_cast<std::size_t>(n));
     std::vector<double>& hc = cg_zhp;  // H (D^-1 g), scratch
     double gdg = 0.0;
     for (int i = 0; i < n; ++i) {
-      cauchy[i] = -g[i] / std::clamp(h[diag[i]], 1e-6, 1e32);
+      cauchy[i] = -g[i] / scale(i);
       gdg -= g[i] * cauchy[i];
     }
     hessianProduct(cauchy, hc);
@@ -332,7 +333,7 @@ struct Optimizer::Impl {
     // so s^T H s = -g^T s and c^T H s = -g^T c).
     double cc = 0.0, cs = 0.0, ss = 0.0, gc = 0.0, gs = 0.0;
     for (int i = 0; i < n; ++i) {
-      const double d = std::clamp(h[diag[i]], 1e-6, 1e32);
+      const double d = scale(i);
       cc += d * cauchy[i] * cauchy[i];
       cs += d * cauchy[i] * gn_dx[i];
       ss += d * gn_dx[i] * gn_dx[i];

@@ -514,7 +514,7 @@ std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const
 std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
                                  double* block_work) {
   if (g.num_blocks >= kCacheMinBlocks) {
-    *block_work = -1.0;
+    if (block_work) *block_work = -1.0;
     return orderColumns(Ordering::kAmd, s, g);
   }
   return expand(amdBlocks(g, block_work), s.block_starts, s.n);
