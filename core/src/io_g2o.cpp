@@ -251,6 +251,7 @@ class Reader {
 
   LoadResult run(std::istream& in) {
     const int threads = std::max(1, options_.threads);
+    const std::size_t chunk_bytes = std::max<std::size_t>(1, options_.chunk_bytes);
     LineParser own(types_);
     std::deque<std::unique_ptr<Chunk>> window;  // read, not yet added; in file order
     std::string carry;                          // a line begun in the last chunk read
@@ -260,7 +261,7 @@ class Reader {
     int line_base = 0;
     while (true) {
       while (!eof && window.size() < max_window) {
-        auto chunk = readChunk(in, carry, eof);
+        auto chunk = readChunk(in, chunk_bytes, carry, eof);
         if (!chunk) break;
         if (threads > 1 && (window.size() > 0 || !eof)) workers.start(threads - 1);
         workers.push(*chunk);
@@ -271,11 +272,15 @@ class Reader {
       workers.waitFor(front, own);
       if (front.failure) std::rethrow_exception(front.failure);
       for (ParsedLine& p : front.lines) {
-        if (!commit(p, line_base + p.line)) return std::move(result_);
+        if (!commit(p, line_base + p.line)) {
+          result_.lines = static_cast<std::size_t>(line_base + p.line);
+          return std::move(result_);
+        }
       }
       line_base += front.line_count;
       window.pop_front();
     }
+    result_.lines = static_cast<std::size_t>(line_base);
     if (in.bad()) report(line_base, "read error");
     for (const auto& [line_of_fix, id] : fixes_) {
       Vertex* v = result_.graph.vertex(id);
@@ -291,21 +296,25 @@ class Reader {
   }
 
  private:
-  /// Bytes read per chunk (it then extends to the end of its last line).
-  static constexpr std::size_t kChunkBytes = std::size_t{1} << 22;
-
-  /// The next chunk of whole lines, or null at the end of the input.
-  static std::unique_ptr<Chunk> readChunk(std::istream& in, std::string& carry, bool& eof) {
+  /// The next chunk of whole lines, or null at the end of the input. A chunk is at least
+  /// `chunk_bytes` long (but for the last) and extends to the end of its last line; the
+  /// part of a line read past it is carried into the next chunk. At the end of the input
+  /// the chunk holds everything that is left, a last line without a line end included.
+  static std::unique_ptr<Chunk> readChunk(std::istream& in, std::size_t chunk_bytes,
+                                          std::string& carry, bool& eof) {
     auto chunk = std::make_unique<Chunk>();
     std::string& text = chunk->text;
     text.swap(carry);
     carry.clear();
     while (!eof) {
       const std::size_t old = text.size();
-      text.resize(old + kChunkBytes);
-      in.read(text.data() + old, static_cast<std::streamsize>(kChunkBytes));
+      text.resize(old + chunk_bytes);
+      in.read(text.data() + old, static_cast<std::streamsize>(chunk_bytes));
       text.resize(old + static_cast<std::size_t>(in.gcount()));
-      if (!in) eof = true;
+      if (!in) {
+        eof = true;
+        break;
+      }
       // Only the part just read can hold a line end (the carry holds none).
       const std::size_t last = std::string_view(text).substr(old).rfind('\n');
       if (last != std::string_view::npos) {

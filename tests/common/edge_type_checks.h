@@ -75,7 +75,9 @@ inline void expectExactRoundTrip(Graph& g, const TypeRegistry& types) {
             flatData(back.parameterDataDimension(), [&](double* d) { back.getParameterData(d); }));
   const int d = e.dimension();
   for (int i = 0; i < d * d; ++i) EXPECT_EQ(e.informationData()[i], back.informationData()[i]);
-  for (const auto& [id, v] : g.vertices()) {
+  for (const auto& entry : g.vertices()) {
+    const VertexId id = entry.first;
+    const Vertex* v = entry.second.get();  // not a structured binding: lambdas capture it
     const Vertex& w = *loaded.graph.vertex(id);
     EXPECT_EQ(flatData(v->estimateDataDimension(), [&](double* x) { v->getEstimateData(x); }),
               flatData(w.estimateDataDimension(), [&](double* x) { w.getEstimateData(x); }))

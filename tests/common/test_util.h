@@ -80,4 +80,15 @@ inline std::string checkJacobians(Edge& edge, Graph& graph, double tol = 1e-6) {
   return {};
 }
 
+/// Checks that `statement` throws `Exception` whose message contains `fragment`.
+#define EXPECT_THROW_MSG(statement, Exception, fragment)                                    \
+  do {                                                                                      \
+    try {                                                                                   \
+      statement;                                                                            \
+      ADD_FAILURE() << "no " #Exception " thrown by " #statement;                           \
+    } catch (const Exception& e) {                                                          \
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << "got: " << e.what(); \
+    }                                                                                       \
+  } while (false)
+
 }  // namespace graphslam::test

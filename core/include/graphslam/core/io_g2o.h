@@ -28,12 +28,19 @@ struct LoadOptions {
   /// registered types' factories and set...Data functions run on several threads at once
   /// (on different objects).
   int threads = 1;
+  /// Bytes read at a time; a chunk of whole lines is parsed by one thread. The default
+  /// (4 MiB) keeps two threads busy on the benchmark files with a small read-ahead window
+  /// (2 chunks per thread); tests set it small to put line ends on chunk boundaries.
+  std::size_t chunk_bytes = std::size_t{1} << 22;
 };
 
 struct LoadResult {
   Graph graph;
   std::vector<Diagnostic> diagnostics;
   std::size_t skipped_lines = 0;
+  /// Lines read (a last line without a line end counts): every line up to the end of the
+  /// input, or up to the line that stopped a strict load.
+  std::size_t lines = 0;
   bool failed = false;  ///< strict mode met an error; `graph` holds what was read before it
   [[nodiscard]] bool ok() const { return !failed; }
 };
