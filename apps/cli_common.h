@@ -37,8 +37,7 @@ struct Registries {
 };
 
 inline void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
-  registerBuiltins(r.types, r.solvers);
-  for (const auto& path : plugins) r.plugins.push_back(Plugin::load(path, r.types, r.solvers));
+  r.plugins = loadTypesAndSolvers(r.types, r.solvers, plugins);
 }
 
 inline po::variables_map parse(const std::vector<std::string>& args,

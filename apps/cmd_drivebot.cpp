@@ -15,16 +15,17 @@
 #include "graphslam/core/graph_checks.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/logging.h"
-#include "graphslam/types_drivebot/run.h"
-#include "graphslam/types_drivebot/scenario.h"
-#include "graphslam/types_drivebot/simulator.h"
-#include "graphslam/types_drivebot/slam_system.h"
+#include "graphslam/drivebot/run.h"
+#include "graphslam/drivebot/scenario.h"
+#include "graphslam/drivebot/simulator.h"
+#include "graphslam/drivebot/slam_system.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
 
 namespace {
 
+using namespace graphslam::drivebot;
 using namespace graphslam::types_drivebot;
 
 constexpr double kPi = 3.14159265358979323846;

@@ -476,7 +476,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
 
   // The reference solution against the ground truth.
   const auto initial_positions = positions(graph);
-  const auto before = types_slam2d::positionErrors(graph, in.ground_truth);
+  const auto before = homework::positionErrors(graph, in.ground_truth);
   if (!reference.empty() && !in.ground_truth.empty()) {
     for (Vertex* v : [&] {
            std::vector<Vertex*> vs;
@@ -487,7 +487,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
          }()) {
       v->oplus(reference.data() + v->hessianIndex());
     }
-    const auto after = types_slam2d::positionErrors(graph, in.ground_truth);
+    const auto after = homework::positionErrors(graph, in.ground_truth);
     std::printf(
         "position error vs ground truth (m) of the estimate, before -> after the reference "
         "step:\n");

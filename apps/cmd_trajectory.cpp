@@ -12,13 +12,15 @@
 #include "graphslam/core/error.h"
 #include "graphslam/core/file_util.h"
 #include "graphslam/core/io_g2o.h"
-#include "graphslam/core/trajectory.h"
-#include "graphslam/core/trajectory_metrics.h"
-#include "graphslam/types_slam2d/pose_graph_io.h"
+#include "graphslam/eval/trajectory.h"
+#include "graphslam/eval/trajectory_metrics.h"
+#include "graphslam/homework/pose_graph_io.h"
 #include "input.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
+
+using namespace graphslam::eval;
 
 namespace {
 
@@ -55,7 +57,7 @@ Graph loadGraphOrThrow(const std::string& path, const Registries& reg) {
 Trajectory loadTrajectory(const std::string& path, const std::string& format,
                           const Registries& reg) {
   const std::string f = trajectoryFormat(path, format);
-  if (f == "g2o") return types_slam2d::trajectoryFromGraph(loadGraphOrThrow(path, reg));
+  if (f == "g2o") return homework::trajectoryFromGraph(loadGraphOrThrow(path, reg));
   if (f == "kitti") return readKitti(path);
   return readTum(path);
 }
@@ -322,7 +324,7 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
   if (endsWith(input, ".g2o")) {
     Registries reg;
     loadRegistries(reg, {});
-    t = types_slam2d::deadReckonGraph(loadGraphOrThrow(input, reg));
+    t = homework::deadReckonGraph(loadGraphOrThrow(input, reg));
   } else {
     const Eigen::Matrix3Xd poses = deadReckonSE2(readMatrix3xN(input));
     t = trajectoryFromSE2(poses);
@@ -385,13 +387,13 @@ int cmdConvert(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (endsWith(input, ".g2o")) {
-    const Trajectory t = types_slam2d::trajectoryFromGraph(loadGraphOrThrow(input, reg));
+    const Trajectory t = homework::trajectoryFromGraph(loadGraphOrThrow(input, reg));
     saveTrajectory(output, t, format);
     std::printf("wrote %s: %zu poses\n", output.c_str(), t.size());
     return kExitOk;
   }
   if (!endsWith(output, ".g2o")) throw UsageError("a relative-pose matrix converts to a .g2o file");
-  types_slam2d::RelativePoseGraphOptions options;
+  homework::RelativePoseGraphOptions options;
   options.last_column_closes_loop = vm.count("no-loop-closure") == 0;
   if (!info.empty()) {
     if (info.size() != 6)
@@ -402,7 +404,7 @@ int cmdConvert(const std::vector<std::string>& args) {
       throw UsageError("--information is not positive definite");
     }
   }
-  const Graph graph = types_slam2d::poseGraphFromRelativePoses(readMatrix3xN(input), options);
+  const Graph graph = homework::poseGraphFromRelativePoses(readMatrix3xN(input), options);
   io::saveG2o(output, graph, reg.types);
   std::printf(
       "wrote %s: %zu poses, %zu edges%s\n", output.c_str(), graph.numVertices(), graph.numEdges(),

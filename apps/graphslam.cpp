@@ -22,9 +22,9 @@
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/initialization.h"
-#include "graphslam/types_slam2d/point_ground_truth.h"
-#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/init/initialization.h"
+#include "graphslam/homework/point_ground_truth.h"
+#include "graphslam/simulation/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
@@ -212,11 +212,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
   checkInitChoice(init);
   LoadedInput in;
   if (input.empty()) {
-    types_slam2d::ManhattanOptions sim;
+    simulation::ManhattanOptions sim;
     std::cout
         << "no input given: optimising the built-in default graph (simulated Manhattan world, "
         << sim.num_poses << " poses, seed " << sim.seed << ")\n";
-    auto simulated = types_slam2d::simulateManhattan(sim);
+    auto simulated = simulation::simulateManhattan(sim);
     in.graph = std::move(simulated.graph);
   } else {
     in = loadInput(input, reg.types, input_options);
@@ -228,7 +228,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   applyInitialGuess(in, graph, init, reg.solvers);
   // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
   const auto initial_positions = plot.empty() ? decltype(positions(graph)){} : positions(graph);
-  const auto initial_errors = types_slam2d::positionErrors(graph, in.ground_truth);
+  const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
 
   const bool quiet = vm.count("quiet") != 0;
   std::vector<std::string> csv;
@@ -253,7 +253,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   const Summary summary = optimizer.optimize();
   std::cout << summary.report() << "\n";
   if (!in.ground_truth.empty()) {
-    const auto final_errors = types_slam2d::positionErrors(graph, in.ground_truth);
+    const auto final_errors = homework::positionErrors(graph, in.ground_truth);
     std::printf("position error vs ground truth (m), initial -> final:\n");
     printErrors("poses", initial_errors.poses, final_errors.poses);
     printErrors("landmarks", initial_errors.landmarks, final_errors.landmarks);
@@ -362,7 +362,7 @@ int cmdListSolvers(const std::vector<std::string>& args) {
 
 int cmdSimulate(const std::vector<std::string>& args) {
   std::string output, truth;
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("output,o", po::value(&output),
                                                  "write the graph (odometry initial guess) here")(
@@ -385,7 +385,7 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
   Registries reg;
   loadRegistries(reg, {});
-  auto result = types_slam2d::simulateManhattan(sim);
+  auto result = simulation::simulateManhattan(sim);
   io::saveG2o(output, result.graph, reg.types);
   std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
             << result.graph.numEdges() << " edges (" << result.num_loop_closures

@@ -9,7 +9,7 @@
 #include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/io_g2o.h"
-#include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/init/initialization.h"
 
 namespace graphslam::apps {
 
@@ -23,11 +23,11 @@ bool hasExtension(const std::string& path, const std::string& ext) {
 }
 }  // namespace
 
-types_slam2d::PointObservationModel parseNpzModel(const std::string& text) {
-  using types_slam2d::PointObservationModel;
+homework::PointObservationModel parseNpzModel(const std::string& text) {
+  using homework::PointObservationModel;
   for (auto m : {PointObservationModel::kAuto, PointObservationModel::kLinear,
                  PointObservationModel::kBearingRange}) {
-    if (text == types_slam2d::toString(m)) return m;
+    if (text == homework::toString(m)) return m;
   }
   throw UsageError("--npz-model must be auto, linear or bearing-range, not '" + text + "'");
 }
@@ -52,7 +52,7 @@ void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
   // The initial guess's two linear systems get the default solver's choice of ordering
   // and backend (large graphs need nested dissection and a supernodal factorisation).
   const auto init_solver = solvers.create("auto");
-  const auto r = types_slam2d::initializeGlobal(graph, init_solver.get());
+  const auto r = init::initializeGlobal(graph, init_solver.get());
   if (!r.message.empty()) {
     std::cout << "initialisation: " << r.message << "\n";
   } else {
@@ -67,9 +67,9 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   LoadedInput in;
   in.path = path;
   if (hasExtension(path, ".npz")) {
-    types_slam2d::CourseworkNpzOptions o;
+    homework::CourseworkNpzOptions o;
     o.model = options.npz_model;
-    auto p = types_slam2d::loadCourseworkNpz(path, o);
+    auto p = homework::loadCourseworkNpz(path, o);
     in.format = "npz";
     in.graph = std::move(p.graph);
     in.ground_truth = std::move(p.ground_truth);
@@ -81,7 +81,7 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
                      std::to_string(p.num_observations) + " observations";
     in.notes.push_back("observation model " + std::string(toString(p.model)) + ": " +
                        p.model_reason);
-    in.notes.push_back(p.model == types_slam2d::PointObservationModel::kLinear
+    in.notes.push_back(p.model == homework::PointObservationModel::kLinear
                            ? "initial guess: all zero (the system is linear)"
                            : "initial guess: odometry summed from (0, 0), each landmark from "
                              "its first observation (the homework's init_states)");

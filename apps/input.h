@@ -19,14 +19,14 @@
 #include "graphslam/core/graph.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/type_registry.h"
-#include "graphslam/types_slam2d/coursework_npz.h"
-#include "graphslam/types_slam2d/point_ground_truth.h"
+#include "graphslam/homework/coursework_npz.h"
+#include "graphslam/homework/point_ground_truth.h"
 
 namespace graphslam::apps {
 
 struct InputOptions {
   /// Observation model of a .npz homework file (kAuto: decided from the file).
-  types_slam2d::PointObservationModel npz_model = types_slam2d::PointObservationModel::kAuto;
+  homework::PointObservationModel npz_model = homework::PointObservationModel::kAuto;
   /// Threads parsing a .g2o file (io::LoadOptions::threads).
   int threads = 1;
 };
@@ -38,7 +38,7 @@ struct LoadedInput {
   std::string format;              ///< "g2o" or "npz"
   std::string description;         ///< one line on what was read (for the user)
   std::vector<std::string> notes;  ///< further lines worth printing (model choice, ...)
-  types_slam2d::PointGroundTruth ground_truth;  ///< empty unless the file has one
+  homework::PointGroundTruth ground_truth;  ///< empty unless the file has one
   /// The file's estimates are a deliberate initial guess that the tool's default
   /// initialisation must keep (.npz: the homework's); false for .g2o files, which get
   /// the global SE(2) initialisation by default.
@@ -51,7 +51,7 @@ struct LoadedInput {
                                     const InputOptions& options = {});
 
 /// Parses auto|linear|bearing-range; throws UsageError otherwise.
-[[nodiscard]] types_slam2d::PointObservationModel parseNpzModel(const std::string& text);
+[[nodiscard]] homework::PointObservationModel parseNpzModel(const std::string& text);
 
 /// Checks an --init value (auto|global|none); throws UsageError otherwise.
 void checkInitChoice(const std::string& init);

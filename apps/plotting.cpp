@@ -68,18 +68,18 @@ void runPlotScript(const std::string& script, const std::vector<std::string>& ar
   if (rc != 0) throw Error("plot script " + script + " failed (exit " + std::to_string(rc) + ")");
 }
 
-/// Positions of the vertices that have one (see types_slam2d::vertexPosition), by id.
+/// Positions of the vertices that have one (see homework::vertexPosition), by id.
 std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph) {
   std::map<VertexId, Eigen::Vector2d> out;
   for (const auto& [id, v] : graph.vertices()) {
     Eigen::Vector2d p;
-    if (types_slam2d::vertexPosition(*v, p)) out.emplace(id, p);
+    if (homework::vertexPosition(*v, p)) out.emplace(id, p);
   }
   return out;
 }
 
-void printErrors(const char* what, const types_slam2d::PositionErrorStats& before,
-                 const types_slam2d::PositionErrorStats& after) {
+void printErrors(const char* what, const homework::PositionErrorStats& before,
+                 const homework::PositionErrorStats& after) {
   if (!after.count) return;
   std::printf(
       "  %-10s %5zu   rmse %.6f  mean %.6f  max %.6f   ->   rmse %.6f  mean %.6f  max %.6f\n", what,
@@ -90,7 +90,7 @@ void printErrors(const char* what, const types_slam2d::PositionErrorStats& befor
 /// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const types_slam2d::PointGroundTruth& truth) {
+                const homework::PointGroundTruth& truth) {
   std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
   if (truth.empty()) {
     for (const auto& [id, v] : graph.vertices()) {

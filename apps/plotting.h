@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/types_slam2d/point_ground_truth.h"
+#include "graphslam/homework/point_ground_truth.h"
 
 namespace graphslam::apps {
 
@@ -21,17 +21,17 @@ namespace graphslam::apps {
 /// no interpreter has matplotlib, or naming the script when it fails.
 void runPlotScript(const std::string& script, const std::vector<std::string>& args);
 
-/// Positions of the vertices that have one (see types_slam2d::vertexPosition), by id.
+/// Positions of the vertices that have one (see homework::vertexPosition), by id.
 [[nodiscard]] std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph);
 
 /// Prints one line "what count rmse mean max -> rmse mean max".
-void printErrors(const char* what, const types_slam2d::PositionErrorStats& before,
-                 const types_slam2d::PositionErrorStats& after);
+void printErrors(const char* what, const homework::PositionErrorStats& before,
+                 const homework::PositionErrorStats& after);
 
 /// Writes the initial / final / ground-truth positions as CSV and draws them
 /// (plot_points.py). Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const types_slam2d::PointGroundTruth& truth);
+                const homework::PointGroundTruth& truth);
 
 }  // namespace graphslam::apps

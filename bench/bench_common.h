@@ -21,7 +21,7 @@
 #include "graphslam/core/logging.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
 
 namespace graphslam::bench {
@@ -87,7 +87,7 @@ int guardedMain(Body&& body) {
 }
 
 /// Loads `path` strictly with the types of types_slam2d and applies the tool's default
-/// initial guess (types_slam2d::initializeGlobal). Throws BadInput on a bad file.
+/// initial guess (init::initializeGlobal). Throws BadInput on a bad file.
 [[nodiscard]] inline io::LoadResult loadInitialised(const std::string& path,
                                                     const TypeRegistry& types) {
   io::LoadResult r = io::loadG2o(path, types);
@@ -96,7 +96,7 @@ int guardedMain(Body&& body) {
     for (const auto& d : r.diagnostics) msg += "\n" + d.str();
     throw BadInput(msg);
   }
-  (void)types_slam2d::initializeGlobal(r.graph);
+  (void)init::initializeGlobal(r.graph);
   return r;
 }
 

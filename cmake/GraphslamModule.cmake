@@ -18,3 +18,21 @@ function(graphslam_add_module name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endfunction()
+
+# graphslam_add_plugin(<name> SOURCES ... LIBS ...)
+# Defines the run-time plugin graphslam_plugin_<name>: a shared module exporting the one
+# entry graphslam_plugin_register, linked against the shared libraries it registers from
+# (so their code exists once per process). Built into ${GRAPHSLAM_PLUGIN_BUILD_DIR} and
+# installed into ${GRAPHSLAM_PLUGIN_INSTALL_DIR}, where the graphslam tool discovers it.
+function(graphslam_add_plugin name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  set(target graphslam_plugin_${name})
+  add_library(${target} MODULE ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_LIBS} graphslam_warnings)
+  set_target_properties(${target} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${GRAPHSLAM_PLUGIN_BUILD_DIR}
+    # installed in <libdir>/graphslam/plugins: the libraries are two folders up
+    INSTALL_RPATH "$ORIGIN/../..")
+  install(TARGETS ${target} LIBRARY DESTINATION ${GRAPHSLAM_PLUGIN_INSTALL_DIR})
+  set_property(GLOBAL APPEND PROPERTY GRAPHSLAM_PLUGINS ${target})
+endfunction()

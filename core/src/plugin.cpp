@@ -2,7 +2,11 @@
 #include "graphslam/core/plugin.h"
 
 #include <boost/dll/shared_library.hpp>
+#include <algorithm>
+#include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <sstream>
 
 #include "graphslam/core/error.h"
 
@@ -40,6 +44,44 @@ std::unique_ptr<Plugin> Plugin::load(const std::string& path, TypeRegistry& type
   types.setOrigin("");
   solvers.setOrigin("");
   return std::unique_ptr<Plugin>(new Plugin(path, std::move(impl)));
+}
+
+std::vector<std::string> findPluginFiles(const std::vector<std::string>& directories) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const auto& dir : directories) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    std::vector<std::string> files;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      const bool plugin_name = name.size() > 6 && name.compare(0, 3, "lib") == 0 &&
+                               name.compare(name.size() - 3, 3, ".so") == 0;
+      if (plugin_name && entry.is_regular_file(ec)) files.push_back(entry.path().string());
+    }
+    std::sort(files.begin(), files.end());
+    out.insert(out.end(), files.begin(), files.end());
+  }
+  return out;
+}
+
+std::vector<std::string> pluginPathFromEnvironment() {
+  std::vector<std::string> out;
+  const char* value = std::getenv(kPluginPathVariable);
+  if (!value) return out;
+  std::stringstream list(value);
+  std::string dir;
+  while (std::getline(list, dir, ':')) {
+    if (!dir.empty()) out.push_back(dir);
+  }
+  return out;
+}
+
+std::vector<std::unique_ptr<Plugin>> loadPlugins(const std::vector<std::string>& paths,
+                                                 TypeRegistry& types, SolverRegistry& solvers) {
+  std::vector<std::unique_ptr<Plugin>> out;
+  for (const auto& path : paths) out.push_back(Plugin::load(path, types, solvers));
+  return out;
 }
 
 }  // namespace graphslam

@@ -9,6 +9,15 @@
 namespace graphslam {
 
 namespace {
+/// " (by 'A' and again by 'B')" naming the two registrations of a name, when known.
+std::string twiceBy(const std::string& first, const std::string& second) {
+  if (first.empty() && second.empty()) return {};
+  auto label = [](const std::string& origin) {
+    return origin.empty() ? std::string("the program itself") : "'" + origin + "'";
+  };
+  return " (by " + label(first) + " and again by " + label(second) + ")";
+}
+
 void checkName(const std::string& name, const char* what) {
   if (name.empty()) throw RegistryError(std::string("empty ") + what);
   if (std::any_of(name.begin(), name.end(),
@@ -25,7 +34,10 @@ void TypeRegistry::addEntry(const std::string& tag, Kind kind, std::type_index t
   if ((kind == Kind::kVertex && !make_vertex) || (kind == Kind::kEdge && !make_edge)) {
     throw RegistryError("null factory for type tag '" + tag + "'");
   }
-  if (entries_.count(tag)) throw RegistryError("type tag '" + tag + "' is already registered");
+  if (const auto it = entries_.find(tag); it != entries_.end()) {
+    throw RegistryError("type tag '" + tag + "' is already registered" +
+                        twiceBy(it->second.origin, origin_));
+  }
   auto t = tags_.find(type);
   if (t != tags_.end()) {
     throw RegistryError("type for tag '" + tag + "' is already registered as '" + t->second + "'");
@@ -158,7 +170,10 @@ void SolverRegistry::registerSolver(const std::string& name, const std::string& 
   }
   if (!factory) throw RegistryError("null factory for solver '" + name + "'");
   if (orderings.empty()) throw RegistryError("solver '" + name + "' lists no ordering");
-  if (entries_.count(name)) throw RegistryError("solver '" + name + "' is already registered");
+  if (const auto it = entries_.find(name); it != entries_.end()) {
+    throw RegistryError("solver '" + name + "' is already registered" +
+                        twiceBy(it->second.origin, origin_));
+  }
   entries_.emplace(
       name, Entry{name, description, origin_, form, std::move(orderings), std::move(factory)});
 }

@@ -30,9 +30,9 @@
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
-#include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
-#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/simulation/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -613,9 +613,9 @@ TEST(Core_OptimizerDiagnostics, CallbackAndRebuildAfterGraphChange) {
 /// A graph mixing every way of linearising: an SE(2) pose graph (analytic Jacobians) and
 /// points with numeric Jacobians on copies, in place (g2o style) and of a multi-edge.
 Graph mixedGraph() {
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   sim.num_poses = 1500;
-  Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
+  Graph g = std::move(simulation::simulateManhattan(sim).graph);
   g.vertex(0)->setFixed(true);
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.1);
@@ -700,14 +700,14 @@ namespace {
 
 /// Optimises a simulated Manhattan graph (vertex 0 fixed) with `algorithm`, from the
 /// simulator's estimates or from the global initial guess.
-Summary optimizeSimulated(const types_slam2d::ManhattanOptions& sim, Algorithm algorithm,
+Summary optimizeSimulated(const simulation::ManhattanOptions& sim, Algorithm algorithm,
                           bool global_init) {
   auto solvers = allSolvers();
-  Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
+  Graph g = std::move(simulation::simulateManhattan(sim).graph);
   g.vertex(0)->setFixed(true);
   if (global_init) {
     auto init_solver = solvers.create("auto");
-    EXPECT_TRUE(types_slam2d::initializeGlobal(g, init_solver.get()).message.empty());
+    EXPECT_TRUE(init::initializeGlobal(g, init_solver.get()).message.empty());
   }
   Optimizer::Options opt;
   opt.algorithm = algorithm;
@@ -721,7 +721,7 @@ Summary optimizeSimulated(const types_slam2d::ManhattanOptions& sim, Algorithm a
 // one step (a chord step); it must end where plain Gauss-Newton ends, with fewer
 // factorisations, and plain Gauss-Newton must factorise at every iteration.
 TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   sim.num_poses = 1500;
   const Summary fallback = optimizeSimulated(sim, Algorithm::kGaussNewtonFallback, false);
   const Summary gn = optimizeSimulated(sim, Algorithm::kGaussNewton, false);
@@ -747,7 +747,7 @@ TEST(Core_Optimizer, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
 // simulated graph started at the global initial guess (what `graphslam optimize` does)
 // one factorisation serves every step, and the optimizer ends where Gauss-Newton ends.
 TEST(Core_Optimizer, ChordStepsIterateConjugateGradientsOnTheLastFactorisation) {
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   sim.num_poses = 2000;
   sim.sigma_theta = 0.05;  // the first step lowers chi2 by 16 %
   const Summary fallback = optimizeSimulated(sim, Algorithm::kGaussNewtonFallback, true);
@@ -932,14 +932,14 @@ TEST(Core_LinearSystem, ReorderedHessianIsTheSameMatrixInTheLowerTriangle) {
 // products with H read the lower triangle); a list that is not a permutation is a failure
 // that says so.
 TEST(Core_Optimizer, SolverBlockOrderGivesTheSameSteps) {
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   sim.num_poses = 1500;
   sim.sigma_theta = 0.05;
   auto run = [&](const std::string& solver, SolverRegistry& registry, int* cg) {
-    Graph g = std::move(types_slam2d::simulateManhattan(sim).graph);
+    Graph g = std::move(simulation::simulateManhattan(sim).graph);
     g.vertex(0)->setFixed(true);
     auto init_solver = registry.create("auto");
-    EXPECT_TRUE(types_slam2d::initializeGlobal(g, init_solver.get()).message.empty());
+    EXPECT_TRUE(init::initializeGlobal(g, init_solver.get()).message.empty());
     Optimizer::Options opt;
     opt.linear_solver = solver;
     Optimizer optimizer(g, registry, opt);

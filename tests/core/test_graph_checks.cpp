@@ -11,12 +11,13 @@
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
-#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/simulation/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
+using namespace graphslam::simulation;
 
 namespace {
 

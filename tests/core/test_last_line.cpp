@@ -12,11 +12,12 @@
 #include "../common/test_util.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/io_g2o.h"
-#include "graphslam/core/trajectory.h"
-#include "graphslam/types_drivebot/scenario.h"
+#include "graphslam/eval/trajectory.h"
+#include "graphslam/drivebot/scenario.h"
 #include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
+using namespace graphslam::eval;
 
 namespace {
 
@@ -142,12 +143,12 @@ TEST(Core_LastLine, DriveBotScenarioFilesReadTheLastRowAndReportATruncatedOne) {
   std::ofstream(dir / "x0.txt") << "0 0 0";
   std::ofstream(dir / "wp.txt") << "70 0\n70 70";
   std::ofstream(dir / "lm.txt") << "1 2\n3 4\n5 6 0";
-  const auto s = types_drivebot::loadScenario(dir.string());
+  const auto s = drivebot::loadScenario(dir.string());
   EXPECT_EQ(s.waypoints.size(), 2u);
   ASSERT_EQ(s.landmarks.size(), 3u);
   EXPECT_EQ(s.landmarks[2].x(), 5.0);
   std::ofstream(dir / "lm.txt", std::ios::trunc) << "1 2\n3 4\n5";
-  EXPECT_THROW_MSG(static_cast<void>(types_drivebot::loadScenario(dir.string())), InputError,
+  EXPECT_THROW_MSG(static_cast<void>(drivebot::loadScenario(dir.string())), InputError,
                    "lm.txt:3: expected 2 or 3 numbers, found 1");
   std::filesystem::remove_all(dir);
 }

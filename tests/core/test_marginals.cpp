@@ -19,7 +19,7 @@
 #include "graphslam/types_drivebot/edge_vehicle_prior.h"
 #include "graphslam/types_drivebot/vertex_landmark.h"
 #include "graphslam/types_drivebot/vertex_vehicle.h"
-#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/simulation/simulator.h"
 
 using namespace graphslam;
 
@@ -55,11 +55,11 @@ void expectClose(const Eigen::MatrixXd& got, const Eigen::MatrixXd& want, double
 
 /// Small Manhattan world with landmarks, loop closures and two fixed vertices.
 Graph slam2dGraph(int poses, int landmarks, unsigned seed) {
-  types_slam2d::ManhattanOptions sim;
+  simulation::ManhattanOptions sim;
   sim.num_poses = poses;
   sim.num_landmarks = landmarks;
   sim.seed = seed;
-  auto result = types_slam2d::simulateManhattan(sim);
+  auto result = simulation::simulateManhattan(sim);
   return std::move(result.graph);
 }
 

@@ -9,15 +9,16 @@
 #include <cmath>
 
 #include "../common/test_util.h"
-#include "graphslam/core/io_npz.h"
+#include "graphslam/homework/io_npz.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/coursework_npz.h"
+#include "graphslam/homework/coursework_npz.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
+using namespace graphslam::homework;
 
 namespace {
 
@@ -89,7 +90,7 @@ Summary optimize(CourseworkProblem& p, Algorithm algorithm, int iterations) {
 /// arrays alone: rows prior, odometry, observations, each whitened by Sigma^-1/2.
 /// Returns A^T A and A^T b when `normal` is set, else A and b.
 void homeworkSystem(const std::string& path, bool normal, Eigen::MatrixXd& m, Eigen::VectorXd& v) {
-  const io::NpzArchive npz(path);
+  const homework::NpzArchive npz(path);
   const Eigen::MatrixXd odom = npz.read("odom").matrix();
   const Eigen::MatrixXd obs = npz.read("observations").matrix();
   const Eigen::MatrixXd s_odom = npz.read("sigma_odom").matrix();

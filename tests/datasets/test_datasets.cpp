@@ -13,7 +13,7 @@
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/initialization.h"
+#include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
@@ -67,7 +67,7 @@ TEST_P(Datasets_Regression, ReachesBestKnownChi2) {
   const SolverRegistry& solvers = data.solvers;
   setLogLevel(LogLevel::kError);
   if (c.global_init) {
-    const auto report = types_slam2d::initializeGlobal(loaded.graph);
+    const auto report = init::initializeGlobal(loaded.graph);
     ASSERT_TRUE(report.message.empty()) << report.message;
   }
   Optimizer optimizer(loaded.graph, solvers, c.options);
@@ -114,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(Public, Datasets_Regression, ::testing::ValuesIn(cases(
 void firstIteration(Dataset& data, Optimizer::Options options, Summary& summary) {
   ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
   setLogLevel(LogLevel::kError);
-  const auto report = types_slam2d::initializeGlobal(data.loaded.graph);
+  const auto report = init::initializeGlobal(data.loaded.graph);
   ASSERT_TRUE(report.message.empty()) << report.message;
   options.max_iterations = 1;
   Optimizer optimizer(data.loaded.graph, data.solvers, options);
@@ -212,7 +212,7 @@ TEST_P(Datasets_Marginals, AllBlocksMatchIndependentSolves) {
   const SolverRegistry& solvers = data.solvers;
   Graph& g = loaded.graph;
   setLogLevel(LogLevel::kError);
-  ASSERT_TRUE(types_slam2d::initializeGlobal(g).message.empty());
+  ASSERT_TRUE(init::initializeGlobal(g).message.empty());
   Optimizer optimizer(g, solvers);
   ASSERT_TRUE(optimizer.optimize().succeeded());
 

@@ -13,12 +13,13 @@
 
 #include "../common/test_util.h"
 #include "graphslam/core/io_g2o.h"
-#include "graphslam/core/trajectory.h"
-#include "graphslam/types_drivebot/scenario.h"
+#include "graphslam/eval/trajectory.h"
+#include "graphslam/drivebot/scenario.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
+using namespace graphslam::eval;
 namespace fs = std::filesystem;
 
 namespace {
@@ -114,7 +115,7 @@ TEST(Datasets_LineCounts, TumMatrixAndScenarioReadersReadEveryRow) {
   for (const auto& x0 : filesWithExtension(seeds, ".txt")) {
     if (x0.filename() != "x0.txt") continue;
     const fs::path dir = x0.parent_path();
-    const auto s = types_drivebot::loadScenario(dir.string());
+    const auto s = drivebot::loadScenario(dir.string());
     EXPECT_EQ(s.waypoints.size(), countDataLines(readBytes(dir / "wp.txt")).total) << dir;
     EXPECT_EQ(s.landmarks.size(), countDataLines(readBytes(dir / "lm.txt")).total) << dir;
     ++scenarios;

@@ -19,9 +19,13 @@
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
+#include "graphslam/init/initialization.h"
+#include "graphslam/simulation/simulator.h"
 
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
+using namespace graphslam::init;
+using namespace graphslam::simulation;
 
 namespace {
 
@@ -277,8 +281,6 @@ TEST(TypesSlam2d_Register, AllTagsRegistered) {
 
 }  // namespace
 
-#include "graphslam/types_slam2d/initialization.h"
-#include "graphslam/types_slam2d/simulator.h"
 
 namespace {
 

@@ -12,7 +12,6 @@
 namespace graphslam::types_drivebot {
 
 void registerTypes(TypeRegistry& registry) {
-  registry.setOrigin("types_drivebot");
   registry.registerVertex<VertexVehicle>("VERTEX_VEHICLE");
   registry.registerVertex<VertexLandmark>("VERTEX_LANDMARK");
   registry.registerEdge<EdgeVehicleKinematics>("EDGE_VEHICLE_KINEMATICS");
@@ -20,7 +19,6 @@ void registerTypes(TypeRegistry& registry) {
   registry.registerEdge<EdgeCompass>("EDGE_COMPASS");
   registry.registerEdge<EdgeLandmarkRangeBearing>("EDGE_LANDMARK_RANGE_BEARING");
   registry.registerEdge<EdgeVehiclePrior>("EDGE_VEHICLE_PRIOR");
-  registry.setOrigin("");
 }
 
 }  // namespace graphslam::types_drivebot

@@ -13,7 +13,6 @@
 namespace graphslam::types_slam2d {
 
 void registerTypes(TypeRegistry& registry) {
-  registry.setOrigin("types_slam2d");
   registry.registerVertex<VertexSE2>("VERTEX_SE2");
   registry.registerVertex<VertexXY>("VERTEX_XY");
   registry.registerEdge<EdgeSE2>("EDGE_SE2");
@@ -22,7 +21,6 @@ void registerTypes(TypeRegistry& registry) {
   registry.registerEdge<EdgePointXY>("EDGE_POINTXY");
   registry.registerEdge<EdgePriorXY>("EDGE_PRIOR_XY");
   registry.registerEdge<EdgeXYBearingRange>("EDGE_XY_BEARING_RANGE");
-  registry.setOrigin("");
 }
 
 }  // namespace graphslam::types_slam2d

@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/type_registry.h"
@@ -38,5 +39,24 @@ class Plugin {
   std::string path_;
   std::unique_ptr<Impl> impl_;
 };
+
+/// The environment variable naming further plugin folders (separated by ':').
+inline constexpr const char* kPluginPathVariable = "GRAPHSLAM_PLUGIN_PATH";
+
+/// The plugin files of `directories`, in the order of the folders and by file name within
+/// each: every regular file whose name starts with "lib" and ends in ".so". A folder that
+/// does not exist is skipped (an empty list is not an error).
+[[nodiscard]] std::vector<std::string> findPluginFiles(const std::vector<std::string>& directories);
+
+/// The folders of GRAPHSLAM_PLUGIN_PATH, in order (empty entries skipped; none when unset).
+[[nodiscard]] std::vector<std::string> pluginPathFromEnvironment();
+
+/// Loads every file of `paths` in order (Plugin::load); throws on the first that fails,
+/// and when two plugins register the same name (the message names both files). The
+/// registries hold code of the plugins: destroy them, and every graph and solver made
+/// through them, before the plugins (declare the plugins first).
+[[nodiscard]] std::vector<std::unique_ptr<Plugin>> loadPlugins(const std::vector<std::string>& paths,
+                                                               TypeRegistry& types,
+                                                               SolverRegistry& solvers);
 
 }  // namespace graphslam

@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+// Drives a DriveBot SLAM system with the simulator, step by step, and records what the
+// coursework plots (the coursework's minislam.mainLoop).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "graphslam/core/marginals.h"
+#include "graphslam/core/optimizer.h"
+#include "graphslam/drivebot/simulator.h"
+#include "graphslam/drivebot/slam_system.h"
+
+namespace graphslam::drivebot {
+
+/// One simulation step: the ground truth when its events were processed, and what the SLAM
+/// system did with them.
+struct StepRecord {
+  long step = 0;  ///< simulator step (0: the start events)
+  double time = 0.0;
+  Eigen::Vector3d truth = Eigen::Vector3d::Zero();
+  int waypoint_index = 0;
+  /// Estimate of the newest vehicle vertex after this step (after its optimisation, if any).
+  Eigen::Vector3d online = Eigen::Vector3d::Zero();
+  /// Diagonal of its covariance (RunOptions::online_covariance; NaN otherwise).
+  Eigen::Vector3d online_variance = Eigen::Vector3d::Constant(std::nan(""));
+  bool optimized = false;
+  double chi2 = std::nan("");
+  double optimization_time = std::nan("");  ///< wall time of optimize() [s]
+  int iterations = 0;
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::size_t observations = 0;  ///< landmark observations in this step's events
+};
+
+struct RunOptions {
+  /// Iterations of the optimisation after the last step (the coursework's 20; 0: none).
+  int final_iterations = 20;
+  /// Also compute the marginal covariance of the newest vehicle vertex after every step
+  /// that optimised (StepRecord::online_variance).
+  bool online_covariance = false;
+  /// At the first loop closure (SlamSystemOptions::loop_closure_gap), optimise and take the
+  /// landmark covariances just before and just after the closing step's events.
+  bool snapshot_loop_closure = false;
+  /// Called after every step (progress output is the caller's business).
+  std::function<void(const StepRecord&)> progress;
+};
+
+/// Estimates around a loop closure.
+struct MapSnapshot {
+  long step = 0;
+  double time = 0.0;
+  double chi2 = 0.0;
+  Eigen::Vector3d vehicle = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d vehicle_covariance = Eigen::Matrix3d::Zero();
+  std::vector<LandmarkEstimate> landmarks;
+  MarginalSummary marginals;
+};
+
+struct LoopClosure {
+  long step = 0;                  ///< the step whose events close the loop
+  std::vector<int> landmark_ids;  ///< the landmarks seen again
+  MapSnapshot before, after;
+};
+
+struct RunResult {
+  std::vector<StepRecord> steps;
+  /// Failure of an optimisation (the run stops there): step, and the summary's message.
+  bool failed = false;
+  long failed_step = -1;
+  double failed_time = 0.0;
+  Summary failure;
+  /// The last optimisation (the end-of-run one when it ran).
+  Summary final_summary;
+  /// Smoothed history after the run: one entry per vehicle vertex, aligned with `steps`.
+  VehicleHistory history;
+  MarginalSummary history_marginals;
+  std::vector<LandmarkEstimate> landmarks;
+  MarginalSummary landmark_marginals;
+  std::optional<LoopClosure> loop_closure;
+  GraphStatistics statistics;
+  /// The constraint check of the last optimisation: vertices without edges were not
+  /// estimated (they keep their predictions).
+  ConstraintReport constraints;
+  double total_optimization_time = 0.0;  ///< sum over every optimize() call [s]
+  int optimizations = 0;
+};
+
+/// Runs the simulator to its end: per step, the system processes the step's events, then
+/// optimises if it recommends it, then the truth is recorded and the simulator steps. After
+/// the loop: one more optimisation (final_iterations), the vehicle history with marginal
+/// covariance diagonals and the landmark estimates with covariances. Stops at the first
+/// optimisation that fails (RunResult::failed, the summary says why).
+[[nodiscard]] RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system,
+                                    const RunOptions& options);
+
+}  // namespace graphslam::drivebot

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/drivebot/run.h"
+
+#include <chrono>
+
+namespace graphslam::drivebot {
+
+
+namespace {
+
+bool failed(const Summary& s) {
+  return s.status == TerminationStatus::kNumericalFailure ||
+         s.status == TerminationStatus::kUnderDetermined;
+}
+
+MapSnapshot snapshot(DriveBotSlamSystem& system, long step, double time, double chi2) {
+  MapSnapshot m;
+  m.step = step;
+  m.time = time;
+  m.chi2 = chi2;
+  m.vehicle = system.currentVehicleEstimate();
+  m.marginals = system.landmarkEstimates(m.landmarks);
+  (void)system.currentVehicleCovariance(m.vehicle_covariance);
+  return m;
+}
+
+}  // namespace
+
+RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const RunOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  RunResult result;
+  auto stop = [&](long step, const Summary& s) {
+    result.failed = true;
+    result.failed_step = step;
+    result.failed_time = simulator.time();
+    result.failure = s;
+  };
+  auto timed_optimize = [&](int iterations, StepRecord* record) {
+    const auto t0 = Clock::now();
+    Summary s = system.optimize(iterations);
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    result.total_optimization_time += seconds;
+    ++result.optimizations;
+    if (record) {
+      record->optimized = true;
+      record->chi2 = s.final_chi2;
+      record->optimization_time = seconds;
+      record->iterations = s.iterations;
+    }
+    return s;
+  };
+
+  while (simulator.keepRunning()) {
+    const std::vector<Event>& events = simulator.events();
+    StepRecord rec;
+    rec.step = simulator.stepCount();
+    rec.time = simulator.time();
+    rec.truth = simulator.truth().x;
+    rec.waypoint_index = simulator.truth().waypoint_index;
+    for (const Event& e : events) rec.observations += e.observations.size();
+
+    std::vector<int> closing;
+    if (options.snapshot_loop_closure && !result.loop_closure) {
+      closing = system.loopClosureLandmarks(events);
+    }
+    if (!closing.empty()) {
+      LoopClosure lc;
+      lc.step = rec.step;
+      lc.landmark_ids = closing;
+      const Summary before = timed_optimize(0, nullptr);
+      if (failed(before)) {
+        stop(rec.step, before);
+        break;
+      }
+      lc.before = snapshot(system, rec.step - 1, system.currentTime(), before.final_chi2);
+      system.processEvents(events);
+      const Summary after = timed_optimize(0, &rec);
+      if (failed(after)) {
+        stop(rec.step, after);
+        break;
+      }
+      lc.after = snapshot(system, rec.step, system.currentTime(), after.final_chi2);
+      result.loop_closure = std::move(lc);
+    } else {
+      system.processEvents(events);
+    }
+    if (system.recommendOptimization()) {
+      const Summary s = timed_optimize(0, &rec);
+      result.final_summary = s;
+      if (failed(s)) {
+        stop(rec.step, s);
+        break;
+      }
+    }
+    rec.online = system.currentVehicleEstimate();
+    if (options.online_covariance && rec.optimized) {
+      Eigen::Matrix3d cov;
+      if (system.currentVehicleCovariance(cov).ok()) rec.online_variance = cov.diagonal();
+    }
+    rec.vertices = system.graph().numVertices();
+    rec.edges = system.graph().numEdges();
+    result.steps.push_back(rec);
+    if (options.progress) options.progress(result.steps.back());
+    simulator.step();
+  }
+  if (!result.failed && options.final_iterations > 0) {
+    result.final_summary = timed_optimize(options.final_iterations, nullptr);
+    if (failed(result.final_summary)) stop(simulator.stepCount(), result.final_summary);
+  }
+  result.statistics = system.statistics();
+  result.constraints = system.constraints();
+  if (!result.failed) {
+    result.history_marginals = system.vehicleHistory(result.history);
+    result.landmark_marginals = system.landmarkEstimates(result.landmarks);
+  }
+  return result;
+}
+
+}  // namespace graphslam::drivebot

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
+
+namespace graphslam::init {
+
+/// What initializeGlobal() did.
+struct InitializationReport {
+  std::size_t poses = 0;      ///< VertexSE2 estimates replaced
+  std::size_t landmarks = 0;  ///< VertexXY estimates replaced
+  double seconds = 0.0;
+  std::string message;  ///< empty on success; says what was skipped otherwise
+};
+
+/// Global initial guess for SE(2) graphs, in two linear least-squares steps:
+///  1. orientations by chordal relaxation: each rotation as a vector (cos, sin) of R^2,
+///     EDGE_SE2 asking r_j = R(dtheta) r_i and EDGE_PRIOR_SE2 r_i = r(z), weighted by the
+///     angular information; the solution's directions are the angles (no 2*pi ambiguity,
+///     robust to large rotation noise);
+///  2. positions of poses and landmarks: with orientations known, EDGE_SE2, EDGE_SE2_XY
+///     and EDGE_PRIOR_SE2 are linear in the translations and are solved jointly.
+/// Fixed vertices and priors anchor the solution; a connected group without either keeps
+/// its lowest-id pose where it is (so the result stays in the caller's frame).
+/// Replaces the estimates of every free VertexSE2 reached by an EDGE_SE2 and of every
+/// free VertexXY observed by an EDGE_SE2_XY from such a pose; other vertices and edge
+/// types are left alone. Works on graphs whose estimates are all zero (edges-only files).
+/// The two systems (2 unknowns per pose, 2 per pose and landmark) are solved with Eigen's
+/// simplicial LDL^T (AMD ordering).
+InitializationReport initializeGlobal(Graph& graph);
+
+/// The same, solving both systems with `solver` (from a SolverRegistry; "auto" picks a
+/// nested-dissection ordering and a supernodal factorisation on large graphs, where the
+/// default takes minutes). A null solver means the default.
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver);
+
+}  // namespace graphslam::init
