@@ -250,87 +250,100 @@ bool jointOrientations(const std::vector<VertexSE2*>& poses,
   return true;
 }
 
-}  // namespace
-
-InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(graph, nullptr); }
-
-InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
-  const auto t0 = std::chrono::steady_clock::now();
-  InitializationReport report;
-  SpdSolver spd(solver);
-
-  // Poses reached by relative-pose edges, in id order (the optimizer's order of blocks:
-  // large graphs then share one fill-reducing ordering with it); each edge's two pose
-  // indices.
+/// What the initialisation works on: the poses reached by relative-pose edges, in id order
+/// (the optimizer's order of blocks: large graphs then share one fill-reducing ordering with
+/// it), each edge's two pose indices, and the priors and landmark observations on them.
+struct Problem {
+  std::vector<VertexSE2*> poses;
   std::vector<const EdgeSE2*> relative;
+  std::vector<std::pair<int, int>> ends;  ///< (first pose, second pose) of each relative edge
+  std::vector<std::pair<const EdgePriorSE2*, int>> priors;
+  std::vector<std::pair<const EdgeSE2XY*, int>> observations;
+  std::vector<char> anchored;  ///< per pose: fixed, or has a prior
+  [[nodiscard]] int size() const { return static_cast<int>(poses.size()); }
+};
+
+/// Index of each pose by its id, through a table over the graph's id range when the ids are
+/// dense enough (one array access per look-up), else through a hash map.
+class PoseIndex {
+ public:
+  PoseIndex(const Graph& graph, std::size_t expected) {
+    const auto& vertices = graph.vertices();
+    min_id_ = vertices.empty() ? 0 : vertices.begin()->first;
+    const long long max_id = vertices.empty() ? -1 : vertices.rbegin()->first;
+    dense_ = max_id - min_id_ < 4 * static_cast<long long>(vertices.size()) + 16;
+    table_.assign(dense_ ? static_cast<std::size_t>(max_id - min_id_ + 1) : 0u, -1);
+    if (!dense_) hashed_.reserve(expected);
+  }
+  int& slot(VertexId id) {
+    return dense_ ? table_[static_cast<std::size_t>(id - min_id_)] : hashed_[id];
+  }
+  /// The slot's value, -1 when the id has none (without adding it to the hash map).
+  [[nodiscard]] int lookup(VertexId id) const {
+    if (dense_) return table_[static_cast<std::size_t>(id - min_id_)];
+    const auto it = hashed_.find(id);
+    return it == hashed_.end() ? -1 : it->second;
+  }
+
+ private:
+  long long min_id_ = 0;
+  bool dense_ = true;
+  std::vector<int> table_;
+  std::unordered_map<VertexId, int> hashed_;
+};
+
+/// The Problem of `graph`; its poses are empty when no EDGE_SE2 reaches any.
+Problem collectProblem(const Graph& graph) {
+  Problem p;
   std::vector<const EdgePriorSE2*> all_priors;
   std::vector<const EdgeSE2XY*> all_observations;
   for (const auto& e : graph.edges()) {
     if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
-      relative.push_back(se2);
+      p.relative.push_back(se2);
     } else if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
       all_priors.push_back(prior);
     } else if (const auto* obs = dynamic_cast<const EdgeSE2XY*>(e.get())) {
       all_observations.push_back(obs);
     }
   }
-  // Index of each pose by its id, through a table over the graph's id range when the ids
-  // are dense enough (one array access per look-up; on 1M poses, sorting vertex pointers
-  // by id and binary searches through them made this set-up take 2.6 s instead of 1.0 s),
-  // else through a hash map.
-  const auto& vertices = graph.vertices();
-  const long long min_id = vertices.empty() ? 0 : vertices.begin()->first;
-  const long long max_id = vertices.empty() ? -1 : vertices.rbegin()->first;
-  const bool dense = max_id - min_id < 4 * static_cast<long long>(vertices.size()) + 16;
-  std::vector<int> table(dense ? static_cast<std::size_t>(max_id - min_id + 1) : 0u, -1);
-  std::unordered_map<VertexId, int> hashed;
-  auto slot = [&](VertexId id) -> int& {
-    return dense ? table[static_cast<std::size_t>(id - min_id)] : hashed[id];
-  };
-  // The slot's value, -1 when the id has none (without adding it to the hash map).
-  auto lookup = [&](VertexId id) {
-    if (dense) return table[static_cast<std::size_t>(id - min_id)];
-    const auto it = hashed.find(id);
-    return it == hashed.end() ? -1 : it->second;
-  };
-  if (!dense) hashed.reserve(2 * relative.size());
-  for (const EdgeSE2* se2 : relative) {
-    for (std::size_t k = 0; k < 2; ++k) slot(se2->vertex(k)->id()) = 0;  // marked
+  PoseIndex index(graph, 2 * p.relative.size());
+  for (const EdgeSE2* se2 : p.relative) {
+    for (std::size_t k = 0; k < 2; ++k) index.slot(se2->vertex(k)->id()) = 0;  // marked
   }
-  std::vector<VertexSE2*> pose_vertices;
-  for (const auto& [id, v] : vertices) {
-    if (lookup(id) < 0) continue;
-    slot(id) = static_cast<int>(pose_vertices.size());
-    pose_vertices.push_back(static_cast<VertexSE2*>(v.get()));
-  }
-  const int n = static_cast<int>(pose_vertices.size());
-  if (n == 0) {
-    report.message = "no EDGE_SE2 in the graph: nothing to initialise";
-    return report;
+  for (const auto& [id, v] : graph.vertices()) {
+    if (index.lookup(id) < 0) continue;
+    index.slot(id) = static_cast<int>(p.poses.size());
+    p.poses.push_back(static_cast<VertexSE2*>(v.get()));
   }
   // Index of a pose vertex (-1: not a pose reached by an EDGE_SE2).
-  auto pose_index = [&](const Vertex* v) { return lookup(v->id()); };
-  std::vector<std::pair<int, int>> ends(relative.size());  // (first pose, second pose)
-  for (std::size_t k = 0; k < relative.size(); ++k) {
-    ends[k] = {pose_index(relative[k]->vertex(0)), pose_index(relative[k]->vertex(1))};
+  auto pose_index = [&](const Vertex* v) { return index.lookup(v->id()); };
+  p.ends.resize(p.relative.size());
+  for (std::size_t k = 0; k < p.relative.size(); ++k) {
+    p.ends[k] = {pose_index(p.relative[k]->vertex(0)), pose_index(p.relative[k]->vertex(1))};
   }
-  std::vector<char> anchored(static_cast<std::size_t>(n), 0);  // fixed vertex or prior
-  for (int i = 0; i < n; ++i) anchored[i] = pose_vertices[i]->fixed() ? 1 : 0;
-  std::vector<std::pair<const EdgePriorSE2*, int>> priors;
+  p.anchored.assign(p.poses.size(), 0);
+  for (std::size_t i = 0; i < p.poses.size(); ++i) p.anchored[i] = p.poses[i]->fixed() ? 1 : 0;
   for (const EdgePriorSE2* prior : all_priors) {
     const int i = pose_index(prior->vertex(0));
     if (i < 0) continue;
-    anchored[i] = 1;
-    priors.emplace_back(prior, i);
+    p.anchored[static_cast<std::size_t>(i)] = 1;
+    p.priors.emplace_back(prior, i);
   }
-  std::vector<std::pair<const EdgeSE2XY*, int>> observations;
   for (const EdgeSE2XY* obs : all_observations) {
     const int i = pose_index(obs->vertex(0));
-    if (i >= 0) observations.emplace_back(obs, i);
+    if (i >= 0) p.observations.emplace_back(obs, i);
   }
+  return p;
+}
+
+/// The gauge poses: connected groups (over EDGE_SE2) are flooded from anchored poses
+/// first, then in id order (poses are numbered by id); a group reached from an unanchored
+/// pose has no anchor and holds that pose, its lowest id, where it is.
+std::vector<char> gaugePoses(const Problem& p) {
+  const int n = p.size();
   // Neighbours of every pose over EDGE_SE2 (CSR).
   std::vector<int> adj_ptr(static_cast<std::size_t>(n) + 1, 0), adj;
-  for (const auto& [i, j] : ends) {
+  for (const auto& [i, j] : p.ends) {
     ++adj_ptr[i + 1];
     ++adj_ptr[j + 1];
   }
@@ -338,25 +351,21 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   adj.resize(static_cast<std::size_t>(adj_ptr[n]));
   {
     std::vector<int> next(adj_ptr.begin(), adj_ptr.end() - 1);
-    for (const auto& [i, j] : ends) {
+    for (const auto& [i, j] : p.ends) {
       adj[next[i]++] = j;
       adj[next[j]++] = i;
     }
   }
-
-  // Connected groups (over EDGE_SE2), flooded from anchored poses first, then in id order
-  // (poses are numbered by id): a group reached from an unanchored pose has no anchor and
-  // holds that pose, its lowest id, where it is (its gauge).
   std::vector<char> gauge(static_cast<std::size_t>(n), 0);
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_partition(order.begin(), order.end(), [&](int i) { return anchored[i] != 0; });
+  std::stable_partition(order.begin(), order.end(), [&](int i) { return p.anchored[i] != 0; });
   std::vector<char> reached(static_cast<std::size_t>(n), 0);
   std::vector<int> queue;
   queue.reserve(static_cast<std::size_t>(n));
   for (int s : order) {
     if (reached[s]) continue;
-    if (!anchored[s]) gauge[s] = 1;
+    if (!p.anchored[s]) gauge[s] = 1;
     queue.clear();
     queue.push_back(s);
     reached[s] = 1;
@@ -370,6 +379,149 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
       }
     }
   }
+  return gauge;
+}
+
+/// The free landmarks in the order of their first observation; obs_landmark[k] is the
+/// index of observation k's landmark, -1 when it is fixed (both systems number them so).
+std::vector<VertexXY*> freeLandmarks(Graph& graph, const Problem& p,
+                                     std::vector<int>& obs_landmark) {
+  std::unordered_map<const Vertex*, int> landmark_index;
+  std::vector<VertexXY*> landmarks;
+  obs_landmark.assign(p.observations.size(), -1);
+  for (std::size_t k = 0; k < p.observations.size(); ++k) {
+    const Vertex* l = p.observations[k].first->vertex(1);
+    if (l->fixed()) continue;
+    auto [it, inserted] = landmark_index.emplace(l, static_cast<int>(landmarks.size()));
+    if (inserted) landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
+    obs_landmark[k] = it->second;
+  }
+  return landmarks;
+}
+
+/// Step 1 of initializeGlobal without landmark observations: the relaxed rotations of
+/// the free poses (var >= 0) from the relative-pose edges and priors alone. Updates theta;
+/// false when the system is singular.
+bool odometryOrientations(const Problem& p, const std::vector<int>& var, int nv,
+                          const std::vector<std::pair<int, int>>& pairs,
+                          std::vector<double>& theta, SpdSolver& spd) {
+  PairSystem sys(nv, pairs);
+  Eigen::VectorXd& rhs = sys.rhs();
+  for (std::size_t k = 0; k < p.relative.size(); ++k) {
+    const EdgeSE2* edge = p.relative[k];
+    const auto [u, v] = p.ends[k];
+    const double w = edge->information()(2, 2);
+    const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
+    const int a = var[u], b = var[v];
+    // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
+    if (a >= 0) sys.add(a, a, w * Eigen::Matrix2d::Identity());
+    if (b >= 0) sys.add(b, b, w * Eigen::Matrix2d::Identity());
+    if (a >= 0 && b >= 0) {
+      sys.add(a, b, -w * q.transpose());
+    } else if (a >= 0) {
+      rhs.segment<2>(2 * a) += w * q.transpose() * unitVector(theta[v]);
+    } else if (b >= 0) {
+      rhs.segment<2>(2 * b) += w * q * unitVector(theta[u]);
+    }
+  }
+  for (const auto& [prior, i] : p.priors) {
+    if (var[i] < 0) continue;
+    const double w = prior->information()(2, 2);
+    sys.add(var[i], var[i], w * Eigen::Matrix2d::Identity());
+    rhs.segment<2>(2 * var[i]) += w * unitVector(prior->measurement().angle());
+  }
+  Eigen::VectorXd r;
+  if (!spd.solve(sys, r)) return false;
+  for (int i = 0; i < p.size(); ++i) {
+    if (var[i] >= 0) theta[i] = std::atan2(r[2 * var[i] + 1], r[2 * var[i]]);
+  }
+  return true;
+}
+
+/// Adds the residual (x_b - x_a) - d with 2x2 weight W to `sys`; -1 marks a known position.
+void addDifference(PairSystem& sys, int a, const Eigen::Vector2d& xa, int b,
+                   const Eigen::Vector2d& xb, const Eigen::Vector2d& d,
+                   const Eigen::Matrix2d& w) {
+  Eigen::VectorXd& rhs = sys.rhs();
+  if (a >= 0) sys.add(a, a, w);
+  if (b >= 0) sys.add(b, b, w);
+  if (a >= 0 && b >= 0) sys.add(a, b, -w);
+  if (a >= 0)
+    rhs.segment<2>(2 * a) += -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
+  if (b >= 0)
+    rhs.segment<2>(2 * b) += w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
+}
+
+/// Step 2 of initializeGlobal: translations of the free poses (var >= 0) and positions of
+/// the free landmarks (unknown nv + their index), orientations held at theta. `pairs`
+/// holds the pose pairs; the pose-landmark pairs are added here. Sets the estimates and
+/// counts them in `report`; false when the system is singular.
+bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
+                    const std::vector<VertexXY*>& landmarks, const std::vector<int>& obs_landmark,
+                    std::vector<std::pair<int, int>> pairs, const std::vector<double>& theta,
+                    SpdSolver& spd, InitializationReport& report) {
+  std::vector<int> obs_var(p.observations.size(), -1);  // the landmark's unknown, -1: fixed
+  for (std::size_t k = 0; k < p.observations.size(); ++k) {
+    if (obs_landmark[k] < 0) continue;
+    obs_var[k] = nv + obs_landmark[k];
+    const int a = var[p.observations[k].second];
+    if (a >= 0) pairs.emplace_back(a, obs_var[k]);
+  }
+  const int nt = nv + static_cast<int>(landmarks.size());
+  if (nt == 0) return true;
+  PairSystem sys(nt, pairs);
+  auto pos = [&](int i) { return p.poses[i]->estimate().translation(); };
+  for (std::size_t k = 0; k < p.relative.size(); ++k) {
+    const EdgeSE2* edge = p.relative[k];
+    const auto [u, v] = p.ends[k];
+    const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
+    const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
+    addDifference(sys, var[u], pos(u), var[v], pos(v),
+                  rotation2(theta[u]) * edge->measurement().translation(), w);
+  }
+  for (std::size_t k = 0; k < p.observations.size(); ++k) {
+    const auto [obs, i] = p.observations[k];
+    const Eigen::Vector2d xl = static_cast<const VertexXY*>(obs->vertex(1))->estimate();
+    const Eigen::Matrix2d r = rotation2(theta[i]);
+    const Eigen::Matrix2d w = r * obs->information() * r.transpose();
+    addDifference(sys, var[i], pos(i), obs_var[k], xl, r * obs->measurement(), w);
+  }
+  for (const auto& [prior, i] : p.priors) {
+    if (var[i] < 0) continue;
+    const Eigen::Matrix2d r = prior->measurement().rotation();
+    const Eigen::Matrix2d w = r * prior->information().topLeftCorner<2, 2>() * r.transpose();
+    addDifference(sys, -1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(),
+                  prior->measurement().translation(), w);
+  }
+  Eigen::VectorXd x;
+  if (!spd.solve(sys, x)) return false;
+  for (int i = 0; i < p.size(); ++i) {
+    if (var[i] < 0) continue;
+    p.poses[i]->setEstimate(SE2(x.segment<2>(2 * var[i]), theta[i]));
+    ++report.poses;
+  }
+  for (std::size_t k = 0; k < landmarks.size(); ++k) {
+    landmarks[k]->setEstimate(x.segment<2>(2 * (nv + static_cast<int>(k))));
+    ++report.landmarks;
+  }
+  return true;
+}
+
+}  // namespace
+
+InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(graph, nullptr); }
+
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
+  const auto t0 = std::chrono::steady_clock::now();
+  InitializationReport report;
+  SpdSolver spd(solver);
+  const Problem p = collectProblem(graph);
+  const int n = p.size();
+  if (n == 0) {
+    report.message = "no EDGE_SE2 in the graph: nothing to initialise";
+    return report;
+  }
+  const std::vector<char> gauge = gaugePoses(p);
 
   // Step 1: orientations by chordal relaxation. Each pose's rotation is the unit vector
   // r_i = (cos theta_i, sin theta_i), relaxed to any vector of R^2; an edge asks for
@@ -381,139 +533,40 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   // odometry edge asks t_j - t_i - D r_i = 0 besides r_j = R(dtheta) r_i, and an
   // observation z of landmark l asks l - t_i - Z r_i = 0: all linear. The landmarks, which
   // the robot sees from poses far apart along its path, then correct the orientations that
-  // odometry alone lets drift (victoria_park: chi2 of the initial guess 1.1e7 without
-  // them, 7.3e3 with them). Only the normalised r_i are kept: step 2 places poses and
+  // odometry alone lets drift. Only the normalised r_i are kept: step 2 places poses and
   // landmarks again with them.
-  // Free landmarks in the order of their first observation: obs_landmark[k] is the
-  // index of observation k's landmark, -1 when it is fixed (both systems number them so).
-  std::unordered_map<const Vertex*, int> landmark_index;
-  std::vector<VertexXY*> landmarks;
-  std::vector<int> obs_landmark(observations.size(), -1);
-  for (std::size_t k = 0; k < observations.size(); ++k) {
-    const Vertex* l = observations[k].first->vertex(1);
-    if (l->fixed()) continue;
-    auto [it, inserted] = landmark_index.emplace(l, static_cast<int>(landmarks.size()));
-    if (inserted) landmarks.push_back(static_cast<VertexXY*>(graph.vertex(l->id())));
-    obs_landmark[k] = it->second;
-  }
+  std::vector<int> obs_landmark;
+  const std::vector<VertexXY*> landmarks = freeLandmarks(graph, p, obs_landmark);
   std::vector<int> var(static_cast<std::size_t>(n), -1);
   int nv = 0;
   for (int i = 0; i < n; ++i) {
-    if (!pose_vertices[i]->fixed() && !gauge[i]) var[i] = nv++;
+    if (!p.poses[i]->fixed() && !gauge[i]) var[i] = nv++;
   }
   std::vector<double> theta(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i < n; ++i) theta[i] = pose_vertices[i]->estimate().angle();
+  for (int i = 0; i < n; ++i) theta[i] = p.poses[i]->estimate().angle();
   // Pairs of unknowns coupled by an edge: the pattern of both systems (the positions'
   // adds the landmarks).
   std::vector<std::pair<int, int>> pairs;
-  pairs.reserve(relative.size() + observations.size());
-  for (const auto& [i, j] : ends) {
+  pairs.reserve(p.relative.size() + p.observations.size());
+  for (const auto& [i, j] : p.ends) {
     if (var[i] >= 0 && var[j] >= 0) pairs.emplace_back(var[i], var[j]);
   }
-  if (nv > 0 && !observations.empty()) {
-    if (!jointOrientations(pose_vertices, relative, ends, observations, obs_landmark,
-                           static_cast<int>(landmarks.size()), priors, var, nv, theta, spd)) {
+  if (nv > 0 && !p.observations.empty()) {
+    if (!jointOrientations(p.poses, p.relative, p.ends, p.observations, obs_landmark,
+                           static_cast<int>(landmarks.size()), p.priors, var, nv, theta, spd)) {
       report.message = "orientation system (with landmarks) is singular: initial estimates kept";
       return report;
     }
-  } else if (nv > 0) {
-    PairSystem sys(nv, pairs);
-    Eigen::VectorXd& rhs = sys.rhs();
-    for (std::size_t k = 0; k < relative.size(); ++k) {
-      const EdgeSE2* edge = relative[k];
-      const auto [u, v] = ends[k];
-      const double w = edge->information()(2, 2);
-      const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
-      const int a = var[u], b = var[v];
-      // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
-      if (a >= 0) sys.add(a, a, w * Eigen::Matrix2d::Identity());
-      if (b >= 0) sys.add(b, b, w * Eigen::Matrix2d::Identity());
-      if (a >= 0 && b >= 0) {
-        sys.add(a, b, -w * q.transpose());
-      } else if (a >= 0) {
-        rhs.segment<2>(2 * a) += w * q.transpose() * unitVector(theta[v]);
-      } else if (b >= 0) {
-        rhs.segment<2>(2 * b) += w * q * unitVector(theta[u]);
-      }
-    }
-    for (const auto& [prior, i] : priors) {
-      if (var[i] < 0) continue;
-      const double w = prior->information()(2, 2);
-      sys.add(var[i], var[i], w * Eigen::Matrix2d::Identity());
-      rhs.segment<2>(2 * var[i]) += w * unitVector(prior->measurement().angle());
-    }
-    Eigen::VectorXd r;
-    if (!spd.solve(sys, r)) {
-      report.message = "orientation system is singular: initial estimates kept";
-      return report;
-    }
-    for (int i = 0; i < n; ++i) {
-      if (var[i] >= 0) theta[i] = std::atan2(r[2 * var[i] + 1], r[2 * var[i]]);
-    }
+  } else if (nv > 0 && !odometryOrientations(p, var, nv, pairs, theta, spd)) {
+    report.message = "orientation system is singular: initial estimates kept";
+    return report;
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
-  std::vector<int> obs_var(observations.size(), -1);  // the landmark's unknown, -1: fixed
-  for (std::size_t k = 0; k < observations.size(); ++k) {
-    if (obs_landmark[k] < 0) continue;
-    obs_var[k] = nv + obs_landmark[k];
-    const int a = var[observations[k].second];
-    if (a >= 0) pairs.emplace_back(a, obs_var[k]);
-  }
-  const int nt = nv + static_cast<int>(landmarks.size());
-  if (nt > 0) {
-    PairSystem sys(nt, pairs);
-    Eigen::VectorXd& rhs = sys.rhs();
-    // Adds the residual (x_b - x_a) - d with 2x2 weight W; -1 marks a known position.
-    auto add = [&](int a, const Eigen::Vector2d& xa, int b, const Eigen::Vector2d& xb,
-                   const Eigen::Vector2d& d, const Eigen::Matrix2d& w) {
-      if (a >= 0) sys.add(a, a, w);
-      if (b >= 0) sys.add(b, b, w);
-      if (a >= 0 && b >= 0) sys.add(a, b, -w);
-      if (a >= 0)
-        rhs.segment<2>(2 * a) +=
-            -w * d + (b < 0 ? Eigen::Vector2d(w * xb) : Eigen::Vector2d::Zero());
-      if (b >= 0)
-        rhs.segment<2>(2 * b) +=
-            w * d + (a < 0 ? Eigen::Vector2d(w * xa) : Eigen::Vector2d::Zero());
-    };
-    auto pos = [&](int i) { return pose_vertices[i]->estimate().translation(); };
-    for (std::size_t k = 0; k < relative.size(); ++k) {
-      const EdgeSE2* edge = relative[k];
-      const auto [u, v] = ends[k];
-      const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
-      const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
-      add(var[u], pos(u), var[v], pos(v), rotation2(theta[u]) * edge->measurement().translation(),
-          w);
-    }
-    for (std::size_t k = 0; k < observations.size(); ++k) {
-      const auto [obs, i] = observations[k];
-      const Eigen::Vector2d xl = static_cast<const VertexXY*>(obs->vertex(1))->estimate();
-      const Eigen::Matrix2d r = rotation2(theta[i]);
-      const Eigen::Matrix2d w = r * obs->information() * r.transpose();
-      add(var[i], pos(i), obs_var[k], xl, r * obs->measurement(), w);
-    }
-    for (const auto& [prior, i] : priors) {
-      if (var[i] < 0) continue;
-      const Eigen::Matrix2d r = prior->measurement().rotation();
-      const Eigen::Matrix2d w = r * prior->information().topLeftCorner<2, 2>() * r.transpose();
-      add(-1, Eigen::Vector2d::Zero(), var[i], Eigen::Vector2d::Zero(),
-          prior->measurement().translation(), w);
-    }
-    Eigen::VectorXd x;
-    if (!spd.solve(sys, x)) {
-      report.message = "position system is singular: initial estimates kept";
-      return report;
-    }
-    for (int i = 0; i < n; ++i) {
-      if (var[i] < 0) continue;
-      pose_vertices[i]->setEstimate(SE2(x.segment<2>(2 * var[i]), theta[i]));
-      ++report.poses;
-    }
-    for (std::size_t k = 0; k < landmarks.size(); ++k) {
-      landmarks[k]->setEstimate(x.segment<2>(2 * (nv + static_cast<int>(k))));
-      ++report.landmarks;
-    }
+  if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta, spd,
+                      report)) {
+    report.message = "position system is singular: initial estimates kept";
+    return report;
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
