@@ -82,9 +82,9 @@ struct Registries {
 template <typename Body>
 int guardedMain(Body&& body) {
   setLogLevel(LogLevel::kWarning);
-  // The process-wide settings the graphslam tool makes, so that the figures compare.
+  // The process-wide settings the graphslam tool makes, so that the figures compare
+  // (OpenMP: serialiseOpenMp(), for every OpenMP user of the program).
   solvers::installCholmodPrefaultingAllocator();
-  solvers::serializeCholmodOpenMp();
   setLargeArrayRetention(LargeArrayRetention{});
   try {
     return body();
