@@ -2,10 +2,14 @@
 #include "builtins.h"
 
 #include <filesystem>
+#include <memory>
 
 #include "graphslam/core/error.h"
+#include "graphslam/core/large_array.h"
+#include "graphslam/solvers/process.h"
 
 #ifndef GRAPHSLAM_TOOL_PLUGINS
+#include "graphslam/solvers/options.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
@@ -56,12 +60,22 @@ std::vector<std::unique_ptr<Plugin>> loadTypesAndSolvers(TypeRegistry& types,
   types_drivebot::registerTypes(types);
   types.setOrigin("");
   solvers.setOrigin("solvers");
-  solvers::registerSolvers(solvers);
+  // One cache of block orderings: the global initial guess and the optimizer order one
+  // pose graph.
+  solvers::SolverOptions options;
+  options.ordering_cache = std::make_shared<solvers::OrderingCache>();
+  solvers::registerSolvers(solvers, options);
   solvers.setOrigin("");
 #endif
   std::vector<std::string> files = findPluginFiles(pluginDirectories());
   files.insert(files.end(), extra.begin(), extra.end());
   return loadPlugins(files, types, solvers);
+}
+
+void configureProcess() {
+  solvers::installCholmodPrefaultingAllocator();
+  solvers::serializeCholmodOpenMp();
+  setLargeArrayRetention(LargeArrayRetention{});
 }
 
 }  // namespace graphslam::apps

@@ -26,4 +26,9 @@ namespace graphslam::apps {
 [[nodiscard]] std::vector<std::unique_ptr<Plugin>> loadTypesAndSolvers(
     TypeRegistry& types, SolverRegistry& solvers, const std::vector<std::string>& extra);
 
+/// The tool's process-wide settings, made once at start-up (the library makes none by
+/// itself): SuiteSparse's allocations faulted in on two threads, CHOLMOD's OpenMP loops
+/// serial, and freed huge-page arrays kept for the next optimisation.
+void configureProcess();
+
 }  // namespace graphslam::apps

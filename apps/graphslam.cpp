@@ -431,6 +431,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 4 << 20);
   mallopt(M_TRIM_THRESHOLD, 4 << 20);
 #endif
+  configureProcess();
   if (argc < 2) {
     std::cerr << kMainUsage;
     return kExitBadInput;

@@ -11,15 +11,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "graphslam/core/graph.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/solvers/options.h"
+#include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
@@ -60,13 +64,16 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The types of types_slam2d and every solver of this build.
+/// The types of types_slam2d and every solver of this build, the solvers sharing one cache
+/// of block orderings as the tool's do.
 struct Registries {
   TypeRegistry types;
   SolverRegistry solvers;
   Registries() {
     types_slam2d::registerTypes(types);
-    solvers::registerSolvers(solvers);
+    solvers::SolverOptions options;
+    options.ordering_cache = std::make_shared<solvers::OrderingCache>();
+    solvers::registerSolvers(solvers, options);
   }
 };
 
@@ -75,6 +82,10 @@ struct Registries {
 template <typename Body>
 int guardedMain(Body&& body) {
   setLogLevel(LogLevel::kWarning);
+  // The process-wide settings the graphslam tool makes, so that the figures compare
+  // (OpenMP: serialiseOpenMp(), for every OpenMP user of the program).
+  solvers::installCholmodPrefaultingAllocator();
+  setLargeArrayRetention(LargeArrayRetention{});
   try {
     return body();
   } catch (const BadInput& e) {

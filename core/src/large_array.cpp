@@ -2,6 +2,7 @@
 #include "graphslam/core/large_array.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <utility>
@@ -19,15 +20,24 @@ namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
 std::size_t roundUp(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
 
-/// Mappings freed recently, kept for the next array of the same rounded length: an
-/// optimisation that follows another (online SLAM re-optimising its graph, repeated
-/// benchmark runs) gets its H and factor without the kernel zeroing fresh huge pages
-/// again (about 0.25 ms per 2 MiB here). At most kRetainedBytes in kRetainedMappings.
+/// Freed mappings kept for the next array of the same rounded length, within the limits
+/// the application set (setLargeArrayRetention).
 class Retained {
  public:
-  static constexpr std::size_t kRetainedBytes = std::size_t{16} << 20;
-  static constexpr std::size_t kRetainedMappings = 8;
-
+  /// New limits; mappings beyond them are unmapped (all of them for {0, 0}).
+  void setLimits(const LargeArrayRetention& limits) {
+    std::vector<std::pair<void*, std::size_t>> release;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      limits_ = limits;
+      while (!kept_.empty() && (kept_.size() > limits_.max_mappings || bytes_ > limits_.max_bytes)) {
+        release.push_back(kept_.front());
+        bytes_ -= kept_.front().second;
+        kept_.erase(kept_.begin());
+      }
+    }
+    for (const auto& m : release) munmap(m.first, m.second);
+  }
   /// The most recently kept mapping of exactly `length` bytes, or nullptr.
   void* take(std::size_t length) {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -46,7 +56,7 @@ class Retained {
   /// Keeps the mapping if there is room; false: the caller unmaps it.
   bool keep(void* p, std::size_t length) {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (kept_.size() >= kRetainedMappings || bytes_ + length > kRetainedBytes) return false;
+    if (kept_.size() >= limits_.max_mappings || bytes_ + length > limits_.max_bytes) return false;
     kept_.emplace_back(p, length);
     bytes_ += length;
     return true;
@@ -54,11 +64,17 @@ class Retained {
 
  private:
   std::mutex mutex_;
+  LargeArrayRetention limits_{0, 0};
   std::vector<std::pair<void*, std::size_t>> kept_;
   std::size_t bytes_ = 0;
 };
 
-/// Never destroyed: arrays may be freed during static destruction.
+/// Whether the application ever asked for retention: until then no list exists and
+/// arrays are unmapped as they are freed.
+std::atomic<bool> g_retention_requested{false};
+
+/// Made at the application's first request; never destroyed, since arrays may be freed
+/// during static destruction.
 Retained& retained() {
   static Retained* r = new Retained;
   return *r;
@@ -68,7 +84,9 @@ Retained& retained() {
 void* allocateLargeArray(std::size_t bytes) {
   const std::size_t length = roundUp(bytes);
   if (length < bytes || length + kHugePage < length) throw std::bad_alloc();
-  if (void* kept = retained().take(length)) return kept;
+  if (g_retention_requested.load(std::memory_order_acquire)) {
+    if (void* kept = retained().take(length)) return kept;
+  }
   // One huge page more than needed, then the parts before and after the aligned range
   // are unmapped again.
   void* raw =
@@ -87,16 +105,27 @@ void* allocateLargeArray(std::size_t bytes) {
   return p;
 }
 
-std::size_t retainedLargeArrayBytes() { return retained().bytes(); }
+std::size_t retainedLargeArrayBytes() {
+  return g_retention_requested.load(std::memory_order_acquire) ? retained().bytes() : 0;
+}
 
 void deallocateLargeArray(void* p, std::size_t bytes) noexcept {
   if (!p) return;
   bool kept = false;
-  try {
-    kept = retained().keep(p, roundUp(bytes));
-  } catch (...) {  // no room for the list's entry (or a lock failure): unmap
+  if (g_retention_requested.load(std::memory_order_acquire)) {
+    try {
+      kept = retained().keep(p, roundUp(bytes));
+    } catch (...) {  // no room for the list's entry (or a lock failure): unmap
+    }
   }
   if (!kept) munmap(p, roundUp(bytes));
+}
+
+void setRetention(const LargeArrayRetention& retention) {
+  const bool none = retention.max_mappings == 0 || retention.max_bytes == 0;
+  if (none && !g_retention_requested.load(std::memory_order_acquire)) return;  // nothing kept
+  retained().setLimits(retention);
+  g_retention_requested.store(true, std::memory_order_release);
 }
 
 #else
@@ -109,6 +138,12 @@ void deallocateLargeArray(void* p, std::size_t /*bytes*/) noexcept {
   ::operator delete (p, std::align_val_t{64});
 }
 
+void setRetention(const LargeArrayRetention& /*retention*/) {}
+
 #endif
 
 }  // namespace graphslam::detail
+
+void graphslam::setLargeArrayRetention(const LargeArrayRetention& retention) {
+  detail::setRetention(retention);
+}

@@ -10,6 +10,8 @@
 #include <string>
 
 #include "common.h"
+#include "factories.h"
+#include "graphslam/solvers/options.h"
 #include "graphslam/solvers/ordering.h"
 #include "graphslam/solvers/register.h"
 #include "ordering.h"
@@ -20,23 +22,18 @@
 
 namespace graphslam::solvers {
 
-std::unique_ptr<detail::OrderedSolver> makeEigenLdlt();
-std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
-std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
-std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering);
-int maxBlockSize(const SparseStructure& s);
-
 namespace {
-
-/// Above this many predicted flops, CHOLMOD's supernodal factorisation (dense BLAS on the
-/// fronts, BLAS threads) beats the simplicial ones: 2e9 for the scalar eigen-ldlt, 1e9 for
-/// block-llt (with CHOLMOD's OpenMP loops serial, openmp_control.h: block-llt is 1.5x
-/// faster at 2e8 flops, the 10k-pose graph, CHOLMOD 2x faster at 7e9, the 100k one).
-constexpr double kSupernodalFlops = 2e9;
-constexpr double kBlockSupernodalFlops = 1e9;
 
 class AutoSolver final : public LinearSolver {
  public:
+  /// The block orderings are kept in options.ordering_cache when it names one, else in a
+  /// cache of the solver's own.
+  explicit AutoSolver(const SolverOptions& options)
+      : options_(options),
+        ordering_cache_(options.ordering_cache
+                            ? options.ordering_cache
+                            : std::make_shared<OrderingCache>(options.ordering_cache_options)) {}
+
   /// The choice made at analysis, and the path of the last factorisation when it was the
   /// scalar (isotropic) or the complex (conformal) one.
   std::string name() const override {
@@ -60,7 +57,7 @@ class AutoSolver final : public LinearSolver {
 
   /// Large block systems factorised by supernodal CHOLMOD ask for H in the chosen
   /// order, postordered, as its lower triangle: CHOLMOD then factorises H's own arrays
-  /// instead of a permuted copy made in every factorisation (265 MiB at 1M poses).
+  /// instead of a permuted copy made in every factorisation (as large as H itself).
   std::vector<int> preferredBlockOrder(const SparseStructure& s) override {
     planned_order_.clear();
     planned_for_ = {};
@@ -98,11 +95,13 @@ class AutoSolver final : public LinearSolver {
     make_backend_ = [](Ordering) { return makeEigenLdlt(); };
     if (plan_.supernodal) {
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-      make_backend_ = [prepermuted](Ordering o) { return makeCholmodSolver(true, o, prepermuted); };
+      make_backend_ = [prepermuted, this](Ordering o) {
+        return makeCholmodSolver(true, o, prepermuted, options_.cholmod);
+      };
       backend = "cholmod";
 #endif
     } else if (plan_.blocks) {
-      make_backend_ = makeBlockCholesky;
+      make_backend_ = [this](Ordering o) { return makeBlockCholesky(o, options_.block_cholesky); };
       backend = "block-llt";
     }
     backend_name_ = backend;
@@ -138,10 +137,12 @@ class AutoSolver final : public LinearSolver {
     // complex matrix: half the flops and half the memory of the 2x2 block factor.
     active_ = nullptr;
     if (may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0) {
-      return factorizeWith(isotropic_, makeIsotropicSolver, values);
+      return factorizeWith(
+          isotropic_, [this](Ordering o) { return makeIsotropicSolver(o, options_); }, values);
     }
     if (may_be_conformal_ && detail::firstNonConformalColumn(structure_, values) < 0) {
-      return factorizeWith(conformal_, makeConformalSolver, values);
+      return factorizeWith(
+          conformal_, [this](Ordering o) { return makeConformalSolver(o, options_); }, values);
     }
     return factorizeWith(backend_, make_backend_, values);
   }
@@ -187,19 +188,23 @@ class AutoSolver final : public LinearSolver {
   }
   void plan(const SparseStructure& s, const detail::BlockGraph& g) {
     // Small systems are not predicted exactly here: name() asks the backend's analysis.
-    plan_.chosen = detail::chooseOrdering(s, g, /*exact=*/false);
+    plan_.chosen =
+        detail::chooseOrdering(s, g, options_.auto_solver, ordering_cache_.get(), /*exact=*/false);
     // Fixed-size blocks pay for vertices of 2 or 3 dimensions (2D SLAM); scalar systems
     // (1x1 blocks) would only be padded.
     const int block_size = maxBlockSize(s);
     plan_.blocks = block_size == 2 || block_size == 3;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    plan_.supernodal =
-        plan_.chosen.prediction.flops > (plan_.blocks ? kBlockSupernodalFlops : kSupernodalFlops);
+    const AutoSolverOptions& o = options_.auto_solver;
+    plan_.supernodal = plan_.chosen.prediction.flops >
+                       (plan_.blocks ? o.block_supernodal_flops : o.supernodal_flops);
 #else
     plan_.supernodal = false;
 #endif
   }
 
+  SolverOptions options_;
+  std::shared_ptr<OrderingCache> ordering_cache_;  // never null
   const char* backend_name_ = "";
   mutable CholeskyPrediction cost_;  // factor_nonzeros < 0: not known yet (name())
   bool analyzed_ = false;
@@ -222,8 +227,9 @@ class AutoSolver final : public LinearSolver {
 
 }  // namespace
 
-std::vector<int> fillReducingOrdering(Ordering ordering, const SparseStructure& s) {
-  return detail::orderColumns(ordering, s);
+std::vector<int> fillReducingOrdering(Ordering ordering, const SparseStructure& s,
+                                      OrderingCache* cache) {
+  return detail::orderColumns(ordering, s, cache);
 }
 
 CholeskyPrediction predictCholesky(const SparseStructure& s, const std::vector<int>& perm) {
@@ -231,16 +237,13 @@ CholeskyPrediction predictCholesky(const SparseStructure& s, const std::vector<i
   return {c.factor_nonzeros, c.flops};
 }
 
-ChosenOrdering chooseOrdering(const SparseStructure& s) {
-  return detail::chooseOrdering(s, detail::blockGraph(s));
+ChosenOrdering chooseOrdering(const SparseStructure& s, const AutoSolverOptions& options) {
+  return detail::chooseOrdering(s, detail::blockGraph(s), options, nullptr);
 }
 
-ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph& g, bool exact) {
-  // Above this many predicted flops with AMD, METIS is tried as well (it costs about as
-  // much as one factorisation of a few 1e7 flops and pays only on larger graphs).
-  constexpr double kTryMetisFlops = 2e8;
-  // From this many blocks on METIS is computed next to AMD, on a second thread.
-  constexpr int kConcurrentOrderingBlocks = 200000;
+ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph& g,
+                                      const AutoSolverOptions& options, OrderingCache* cache,
+                                      bool exact) {
   auto predict = [&](const std::vector<int>& perm) {
     const detail::SymbolicCost c = detail::symbolicCost(s, g, perm);
     return CholeskyPrediction{c.factor_nonzeros, c.flops};
@@ -250,33 +253,34 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
   auto metis = [&] {
     ChosenOrdering m;
     m.ordering = Ordering::kMetis;
-    m.perm = detail::orderColumns(Ordering::kMetis, s, g);
+    m.perm = detail::orderColumns(Ordering::kMetis, s, g, cache);
     m.prediction = predict(m.perm);
     return m;
   };
   // Graphs this large always need METIS as well (AMD predicts far more than
-  // kTryMetisFlops): both orderings are serial codes, so they run side by side.
+  // try_metis_flops): both orderings are serial codes, so they run side by side.
   std::future<ChosenOrdering> metis_ahead;
-  if (g.num_blocks >= kConcurrentOrderingBlocks) {
+  if (g.num_blocks >= options.concurrent_ordering_blocks) {
     metis_ahead = std::async(std::launch::async, metis);
   }
 #endif
   double amd_work = -1.0;
-  chosen.perm = detail::orderColumnsAmd(s, g, &amd_work);
+  chosen.perm = detail::orderColumnsAmd(s, g, &amd_work, cache);
   // d^3 sum_j (b_j + 1)^2 bounds the scalar flops (b_j: blocks below the diagonal in
   // block column j, d: the largest block); with AMD's b_j, a quarter of the threshold
   // leaves room for its count's error.
   const double d = maxBlockSize(s);
   const double bound = d * d * d * amd_work;
-  if (!exact && amd_work >= 0.0 && bound < kTryMetisFlops / 4) {
+  if (!exact && amd_work >= 0.0 && bound < options.try_metis_flops / 4) {
     chosen.prediction = {-1.0, bound};
     return chosen;
   }
   chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-  if (metis_ahead.valid() || chosen.prediction.flops > kTryMetisFlops) {
+  if (metis_ahead.valid() || chosen.prediction.flops > options.try_metis_flops) {
     ChosenOrdering m = metis_ahead.valid() ? metis_ahead.get() : metis();
-    if (chosen.prediction.flops > kTryMetisFlops && m.prediction.flops < chosen.prediction.flops) {
+    if (chosen.prediction.flops > options.try_metis_flops &&
+        m.prediction.flops < chosen.prediction.flops) {
       chosen = std::move(m);
     }
   }
@@ -284,13 +288,13 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
   return chosen;
 }
 
-void registerAutoSolver(SolverRegistry& registry) {
+void registerAutoSolver(SolverRegistry& registry, const SolverOptions& options) {
   registry.registerSolver("auto",
                           "the default: orders H by AMD or METIS (whichever predicts fewer flops) "
                           "and factorises with block-llt (vertices of dimension 2-3) or "
                           "eigen-ldlt, or with supernodal cholmod when the predicted work is "
                           "large",
-                          [] { return std::make_unique<AutoSolver>(); });
+                          [options] { return std::make_unique<AutoSolver>(options); });
 }
 
 }  // namespace graphslam::solvers

@@ -17,20 +17,13 @@
 
 #include "block_kernels.h"
 #include "common.h"
+#include "factories.h"
 #include "graphslam/core/large_array.h"
 #include "ordering.h"
 
 namespace graphslam::solvers {
 
-/// Largest vertex dimension of a structure.
-int maxBlockSize(const SparseStructure& s);
-
 namespace {
-
-/// A dense trailing part of L of at least this many block columns, whose vertices are
-/// smaller than B by at least this fraction of its padded size, is factorised densely.
-constexpr int kDenseTailMinBlocks = 16;
-constexpr double kDenseTailMinPadding = 0.2;
 
 /// First column of the dense matrix `a` (lower triangle) at which an unblocked LL^T, in
 /// place, finds a non-positive pivot; -1 when there is none. Only for naming a failure.
@@ -93,7 +86,10 @@ class BlockCholesky final : public detail::OrderedSolver {
   static_assert(sizeof(Block) == sizeof(double) * B * B && sizeof(Work) == sizeof(double) * P * B &&
                 sizeof(PVec) == sizeof(double) * P);
 
-  BlockCholesky() : eliminate_(detail::eliminateKernel(B)), solve_(detail::solveKernels(B)) {}
+  explicit BlockCholesky(const BlockCholeskyOptions& options)
+      : options_(options),
+        eliminate_(detail::eliminateKernel(B)),
+        solve_(detail::solveKernels(B)) {}
 
   std::string name() const override { return "block-llt"; }
 
@@ -228,15 +224,15 @@ class BlockCholesky final : public detail::OrderedSolver {
       }
     }
     // Dense tail: the last columns k >= tail_ each hold every row below them. Kept when
-    // it is long enough and padding would be at least kDenseTailMinPadding of it (of B x B
+    // it is long enough and padding would be at least dense_tail_min_padding of it (of B x B
     // blocks, the up-looking loop is as fast as the dense factorisation).
     tail_ = nb_;
     while (tail_ > 0 && count[tail_ - 1] == nb_ - tail_) --tail_;
     tail_start_.assign(1, 0);
     for (int k = tail_; k < nb_; ++k) tail_start_.push_back(tail_start_.back() + dim(old_[k]));
     const double padded = static_cast<double>(B) * (nb_ - tail_);
-    if (nb_ - tail_ < kDenseTailMinBlocks ||
-        tail_start_.back() > (1.0 - kDenseTailMinPadding) * padded) {
+    if (nb_ - tail_ < options_.dense_tail_min_blocks ||
+        tail_start_.back() > (1.0 - options_.dense_tail_min_padding) * padded) {
       tail_ = nb_;
       tail_start_.assign(1, 0);
     }
@@ -415,6 +411,7 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<int> tail_start_;  // tail block column k at tail_start_[k - tail_]
   Eigen::MatrixXd tail_matrix_;  // its factor (lower triangle)
   Eigen::VectorXd tail_rhs_;
+  BlockCholeskyOptions options_;
   detail::EliminateFn eliminate_;
   detail::SolveKernels solve_;
 };
@@ -422,7 +419,8 @@ class BlockCholesky final : public detail::OrderedSolver {
 /// Picks the block size at analysis: the largest vertex dimension (1, 2 or 3).
 class BlockCholeskyAny final : public detail::OrderedSolver {
  public:
-  explicit BlockCholeskyAny(Ordering ordering) : ordering_(ordering) {}
+  BlockCholeskyAny(Ordering ordering, const BlockCholeskyOptions& options)
+      : ordering_(ordering), options_(options) {}
   std::string name() const override { return "block-llt"; }
   Ordering ordering() const override { return ordering_; }
 
@@ -431,9 +429,9 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
     ordering_ = label;
     impl_.reset();
     const int b = maxBlockSize(s);
-    if (b <= 1) impl_ = std::make_unique<BlockCholesky<1>>();
-    if (b == 2) impl_ = std::make_unique<BlockCholesky<2>>();
-    if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>();
+    if (b <= 1) impl_ = std::make_unique<BlockCholesky<1>>(options_);
+    if (b == 2) impl_ = std::make_unique<BlockCholesky<2>>(options_);
+    if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>(options_);
     if (!impl_) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
@@ -456,6 +454,7 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
 
  private:
   Ordering ordering_;
+  BlockCholeskyOptions options_;
   std::unique_ptr<detail::OrderedSolver> impl_;
 };
 
@@ -469,8 +468,9 @@ int maxBlockSize(const SparseStructure& s) {
   return size;
 }
 
-std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering) {
-  return std::make_unique<BlockCholeskyAny>(ordering);
+std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering,
+                                                         const BlockCholeskyOptions& options) {
+  return std::make_unique<BlockCholeskyAny>(ordering, options);
 }
 
 }  // namespace graphslam::solvers

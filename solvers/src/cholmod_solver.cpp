@@ -2,14 +2,12 @@
 #include <cholmod.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "common.h"
+#include "graphslam/solvers/options.h"
 #include "openmp_control.h"
 #include "ordering.h"
 #include "suitesparse.h"
@@ -17,37 +15,6 @@
 namespace graphslam::solvers {
 
 namespace {
-
-/// From this size on, SuiteSparse's allocations are faulted in on two threads at once.
-constexpr std::size_t kPrefaultBytes = std::size_t{32} << 20;
-
-/// Writes a zero into every page of [p, p + size) (the memory of a fresh allocation:
-/// malloc's is undefined, calloc's is zero already), half of them on a second thread.
-/// First-touch page faults are most of the cost of CHOLMOD's first factorisation of a
-/// large factor (about 3 s per GB on the project's machines) and run in parallel.
-void prefault(void* p, std::size_t size) {
-  constexpr std::size_t kPage = 4096;
-  auto touch = [p](std::size_t from, std::size_t to) {
-    volatile char* c = static_cast<char*>(p);
-    for (std::size_t i = from; i < to; i += kPage) c[i] = 0;
-  };
-  const std::size_t half = (size / 2) / kPage * kPage;
-  std::thread second(touch, half, size);
-  touch(0, half);
-  second.join();
-}
-
-void* prefaultingMalloc(std::size_t size) {
-  void* p = std::malloc(size);
-  if (p && size >= kPrefaultBytes) prefault(p, size);
-  return p;
-}
-
-void* prefaultingCalloc(std::size_t count, std::size_t size) {
-  void* p = std::calloc(count, size);
-  if (p && count * size >= kPrefaultBytes) prefault(p, count * size);
-  return p;
-}
 
 /// CHOLMOD Cholesky (supernodal or simplicial LL^T) with an ordering computed on the
 /// block graph and given to CHOLMOD. H is passed without copying: the cholmod_sparse header points
@@ -61,20 +28,16 @@ void* prefaultingCalloc(std::size_t count, std::size_t size) {
 /// otherwise makes in every factorisation.
 class CholmodSolver final : public detail::OrderedSolver {
  public:
-  CholmodSolver(std::string name, bool supernodal, Ordering ordering, bool complex = false,
-                bool prepermuted_lower = false)
-      : name_(std::move(name)),
+  CholmodSolver(std::string name, bool supernodal, Ordering ordering, bool complex,
+                bool prepermuted_lower, const CholmodOptions& options)
+      : options_(options),
+        name_(std::move(name)),
         supernodal_(supernodal),
         ordering_(ordering),
         xtype_(complex ? CHOLMOD_COMPLEX : CHOLMOD_REAL),
         scalars_(complex ? 2 : 1),
         prepermuted_lower_(prepermuted_lower) {
     cholmod_start(&common_);
-    static std::once_flag hooks;
-    std::call_once(hooks, [] {
-      SuiteSparse_config.malloc_func = prefaultingMalloc;
-      SuiteSparse_config.calloc_func = prefaultingCalloc;
-    });
     common_.supernodal = supernodal_ ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common_.final_ll = 1;  // keep LL^T (simplicial would convert to LDL^T otherwise)
     common_.nmethods = 1;
@@ -132,7 +95,7 @@ class CholmodSolver final : public detail::OrderedSolver {
           LinearSolverStatus::kFailure,
           "cholmod_analyze failed (status " + std::to_string(common_.status) + ")");
     }
-    // The analysis leaves a workspace of 6n integers and more (72 MB at 3M unknowns); the
+    // The analysis leaves a workspace of 6n integers and more; the
     // factorisation allocates the smaller one it needs itself, so this one would only add
     // to the peak memory of the first factorisation.
     cholmod_free_work(&common_);
@@ -173,7 +136,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     const double* sol = x;
     if (prepermuted_lower_ && factor_->is_super) {
       // No permutation: the two triangular solves in place in x, with no copies of the
-      // right-hand side (three vectors of n at 1M poses: 72 MB).
+      // right-hand side (three vectors of n).
       if (x != rhs) std::memmove(x, rhs, sizeof(double) * len);
       cholmod_dense in_place{};
       in_place.nrow = a_.nrow;
@@ -247,25 +210,12 @@ class CholmodSolver final : public detail::OrderedSolver {
   }
 
  private:
-  /// Supernodal amalgamation: a supernode is merged into its parent when the merged one
-  /// stays narrow or gains few explicit zeros. CHOLMOD's default tolerates 80 % zeros up
-  /// to 16 columns, 10 % up to 48, 5 % beyond.
-  ///  - Systems of blocks (vertices of dimension > 1, supernodes at least one block wide)
-  ///    tolerate 20 %, 5 % and 2 %: every supernode also stores its diagonal block as a
-  ///    full rectangle, so fewer zeros save more than the relaxed entries. 1M-pose
-  ///    synthetic graph (3M unknowns, METIS): L's value array 350.7M -> 316.4M doubles,
-  ///    peak memory 4756 -> 4503 MiB, factorisation time within the machine's noise
-  ///    (16.8 s against 17.6-20 s); 100k poses: 28.1M -> 24.8M doubles, same time.
-  ///  - Scalar systems (the isotropic and complex paths of the SE(2) initial guess) keep
-  ///    the default: their fundamental supernodes are narrow and the BLAS calls on them
-  ///    slow. At 1M poses (1M unknowns, METIS) the tight setting made the complex
-  ///    factorisation 4.4-4.5 s instead of 3.0-3.6 s and the real one 3.4-3.7 s instead
-  ///    of 2.4-2.7 s.
+  /// Supernodal amalgamation (CholmodOptions): systems of blocks (vertices of dimension
+  /// > 1, supernodes at least one block wide) and scalar systems have settings of their own.
   void setRelaxation(const SparseStructure& s) {
     const bool scalar = s.num_blocks == s.n;
-    common_.zrelax[0] = scalar ? 0.8 : 0.2;
-    common_.zrelax[1] = scalar ? 0.1 : 0.05;
-    common_.zrelax[2] = scalar ? 0.05 : 0.02;
+    const double* zrelax = scalar ? options_.scalar_zrelax : options_.block_zrelax;
+    for (int k = 0; k < 3; ++k) common_.zrelax[k] = zrelax[k];
   }
 
   void freeFactor() {
@@ -278,6 +228,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     if (e_) cholmod_free_dense(&e_, &common_);
   }
 
+  CholmodOptions options_;
   std::string name_;
   bool supernodal_;
   Ordering ordering_;
@@ -298,15 +249,17 @@ class CholmodSolver final : public detail::OrderedSolver {
 }  // namespace
 
 std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering,
-                                                         bool prepermuted_lower) {
+                                                         bool prepermuted_lower,
+                                                         const CholmodOptions& options) {
   return std::make_unique<CholmodSolver>(supernodal ? "cholmod" : "cholmod-simplicial", supernodal,
-                                         ordering, false, prepermuted_lower);
+                                         ordering, false, prepermuted_lower, options);
 }
 
 std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering,
-                                                                bool prepermuted_lower) {
+                                                                bool prepermuted_lower,
+                                                                const CholmodOptions& options) {
   return std::make_unique<CholmodSolver>("cholmod-complex", supernodal, ordering, true,
-                                         prepermuted_lower);
+                                         prepermuted_lower, options);
 }
 
 }  // namespace graphslam::solvers

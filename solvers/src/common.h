@@ -5,12 +5,14 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/options.h"
 #include "graphslam/solvers/ordering.h"
 
 namespace graphslam::solvers::detail {
@@ -127,6 +129,11 @@ class OrderedSolver : public LinearSolver {
   [[nodiscard]] virtual std::optional<CholeskyPrediction> analysedCost() const {
     return std::nullopt;
   }
+  /// The block orderings analyze() looks up and keeps (null, the default: none).
+  void setOrderingCache(std::shared_ptr<OrderingCache> cache) { ordering_cache_ = std::move(cache); }
+
+ private:
+  std::shared_ptr<OrderingCache> ordering_cache_;
 };
 
 /// First column of H (CSC of its stored triangle, complete blocks) whose vertex block column holds

@@ -3,6 +3,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <memory>
+#include <utility>
 
 #include "common.h"
 #include "ordering.h"
@@ -16,7 +17,8 @@ namespace {
 /// ordering on the block graph.
 class CsparseSolver final : public LinearSolver {
  public:
-  explicit CsparseSolver(Ordering ordering) : ordering_(ordering) {}
+  CsparseSolver(Ordering ordering, std::shared_ptr<OrderingCache> cache)
+      : ordering_(ordering), cache_(std::move(cache)) {}
   ~CsparseSolver() override { release(); }
 
   std::string name() const override { return "csparse"; }
@@ -24,7 +26,7 @@ class CsparseSolver final : public LinearSolver {
 
   LinearSolverResult analyze(const SparseStructure& s) override {
     release();
-    order_ = detail::orderColumns(ordering_, s);
+    order_ = detail::orderColumns(ordering_, s, cache_.get());
     permuted_.build(s, order_);
     values_.assign(permuted_.source.size(), 0.0);
     matrix_ = cs_di{};
@@ -97,6 +99,7 @@ class CsparseSolver final : public LinearSolver {
   }
 
   Ordering ordering_;
+  std::shared_ptr<OrderingCache> cache_;  // block orderings kept between analyses (may be null)
   std::vector<int> order_;
   detail::PermutedUpper permuted_;
   std::vector<double> values_;
@@ -108,8 +111,9 @@ class CsparseSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering) {
-  return std::make_unique<CsparseSolver>(ordering);
+std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering,
+                                                std::shared_ptr<OrderingCache> cache) {
+  return std::make_unique<CsparseSolver>(ordering, std::move(cache));
 }
 
 }  // namespace graphslam::solvers

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "common.h"
+#include "factories.h"
 #include "graphslam/solvers/register.h"
 #include "ordering.h"
 
@@ -294,35 +295,33 @@ class DensePinvSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
-
 std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
   return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", Ordering::kAmd);
 }
 
-std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering);
-std::unique_ptr<detail::OrderedSolver> makeEnvelopeSolver(Ordering ordering);
-
-std::unique_ptr<LinearSolver> makePcgSolver();
-
-void registerEigenSolvers(SolverRegistry& registry) {
+void registerEigenSolvers(SolverRegistry& registry, const SolverOptions& options) {
   const auto orderings = detail::availableOrderings();
   registry.registerSolver(
       "eigen-ldlt", "Eigen SimplicialLDLT on H (ordering on the block graph)",
-      SystemForm::kNormalEquations, orderings, [](const LinearSolverOptions& o) {
-        return std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", o.ordering);
+      SystemForm::kNormalEquations, orderings, [options](const LinearSolverOptions& o) {
+        return detail::withOrderingCache(
+            std::make_unique<EigenSimplicialSolver<Ldlt>>("eigen-ldlt", o.ordering), options);
       });
   registry.registerSolver(
       "eigen-llt", "Eigen SimplicialLLT on H (ordering on the block graph)",
-      SystemForm::kNormalEquations, orderings, [](const LinearSolverOptions& o) {
-        return std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt", o.ordering);
+      SystemForm::kNormalEquations, orderings, [options](const LinearSolverOptions& o) {
+        return detail::withOrderingCache(
+            std::make_unique<EigenSimplicialSolver<Llt>>("eigen-llt", o.ordering), options);
       });
   registry.registerSolver(
       "block-llt",
       "block up-looking Cholesky LL^T on fixed-size 2x2 or 3x3 blocks (vertices of dimension "
       "at most 3; smaller ones padded)",
       SystemForm::kNormalEquations, orderings,
-      [](const LinearSolverOptions& o) { return makeBlockCholesky(o.ordering); });
+      [options](const LinearSolverOptions& o) {
+        return detail::withOrderingCache(makeBlockCholesky(o.ordering, options.block_cholesky),
+                                         options);
+      });
   registry.registerSolver(
       "isotropic",
       "H = H_s (x) I_d (isotropic linear SLAM: every block a multiple of the identity): "
@@ -330,7 +329,9 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "work is large, else a dense-tail or up-looking LL^T), d right-hand sides; fails on "
       "other systems",
       SystemForm::kNormalEquations, orderings,
-      [](const LinearSolverOptions& o) { return makeIsotropicSolver(o.ordering); });
+      [options](const LinearSolverOptions& o) {
+        return detail::withOrderingCache(makeIsotropicSolver(o.ordering, options), options);
+      });
   std::vector<Ordering> envelope_orderings{Ordering::kRcm};
   envelope_orderings.insert(envelope_orderings.end(), orderings.begin(), orderings.end());
   registry.registerSolver(
@@ -339,7 +340,9 @@ void registerEigenSolvers(SolverRegistry& registry) {
       "order that keeps the envelope small (reverse Cuthill-McKee by default); of the scalar "
       "H_s with d right-hand sides when H = H_s (x) I_d, of H itself otherwise",
       SystemForm::kNormalEquations, envelope_orderings,
-      [](const LinearSolverOptions& o) { return makeEnvelopeSolver(o.ordering); });
+      [options](const LinearSolverOptions& o) {
+        return detail::withOrderingCache(makeEnvelopeSolver(o.ordering), options);
+      });
   registry.registerSolver(
       "eigen-qr", "Eigen SparseQR on the whitened Jacobian J", SystemForm::kJacobian, orderings,
       [](const LinearSolverOptions& o) { return std::make_unique<EigenQrSolver>(o.ordering); });
@@ -359,10 +362,10 @@ void registerEigenSolvers(SolverRegistry& registry) {
       [](const LinearSolverOptions&) { return makePcgSolver(); });
 }
 
-void registerSolvers(SolverRegistry& registry) {
-  registerAutoSolver(registry);
-  registerEigenSolvers(registry);
-  if (haveSuiteSparse()) registerSuiteSparseSolvers(registry);
+void registerSolvers(SolverRegistry& registry, const SolverOptions& options) {
+  registerAutoSolver(registry, options);
+  registerEigenSolvers(registry, options);
+  if (haveSuiteSparse()) registerSuiteSparseSolvers(registry, options);
 }
 
 }  // namespace graphslam::solvers

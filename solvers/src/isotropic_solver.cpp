@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common.h"
+#include "factories.h"
 #include "ordering.h"
 #include "symbolic.h"
 #include "tail_cholesky.h"
@@ -32,29 +33,20 @@
 
 namespace graphslam::solvers {
 
-std::unique_ptr<detail::OrderedSolver> makeBlockCholesky(Ordering ordering);
-
 namespace {
 
-/// Above this many predicted flops of the scalar factorisation, CHOLMOD's supernodal
-/// factorisation takes it (dense fronts: a few dense landmark columns seen from every
-/// pose make the factor's trailing part dense); below, block-llt's up-looking LL^T on
-/// 1 x 1 blocks, which has no per-supernode overhead, works on B's arrays as they are and
-/// names the column of a failed pivot. With BLAS / LAPACK, tail-llt goes first: up to
-/// this many flops in its loop (beside a dense tail's BLAS work).
-constexpr double kSupernodalFlops = 2e6;
-/// Up to this many stored entries of H_s, tail-llt's analysis decides whether it
-/// factorises (its row patterns are the symbolic analysis every path needs); beyond,
-/// where a dense tail cannot hold most of the work, it is not tried.
-constexpr std::size_t kTailProbeEntries = std::size_t{1} << 20;
 /// Off-diagonal entries of a block, and differences between its diagonal entries, must
 /// be below this fraction of its (0, 0) entry.
 constexpr double kRelativeTolerance = 1e-12;
 
 class IsotropicSolver final : public detail::OrderedSolver {
  public:
-  explicit IsotropicSolver(Ordering ordering, bool conformal = false)
-      : ordering_(ordering), conformal_(conformal) {}
+  IsotropicSolver(Ordering ordering, bool conformal, const SolverOptions& options)
+      : ordering_(ordering),
+        conformal_(conformal),
+        options_(options.isotropic),
+        cholmod_options_(options.cholmod),
+        block_options_(options.block_cholesky) {}
 
   std::string name() const override { return conformal_ ? "conformal" : "isotropic"; }
   Ordering ordering() const override { return ordering_; }
@@ -126,10 +118,10 @@ class IsotropicSolver final : public detail::OrderedSolver {
     // gets its Schur complement from BLAS, the cheap columns before it (or all columns of
     // a small system) a left-looking loop, without CHOLMOD's supernodal analysis and
     // per-supernode work. It takes B's upper triangle as it is, and declines when its
-    // loop would cost more than kSupernodalFlops, leaving its elimination tree and
+    // loop would cost more than supernodal_flops, leaving its elimination tree and
     // column counts.
-    if (!conformal_ && scalar_.nnz() <= kTailProbeEntries) {
-      auto tail = std::make_unique<detail::TailCholesky>(kSupernodalFlops);
+    if (!conformal_ && scalar_.nnz() <= options_.tail_probe_entries) {
+      auto tail = std::make_unique<detail::TailCholesky>(options_.supernodal_flops);
       if (tail->analyzeOrdered(scalar_, identity, label).ok()) {
         tail_ = tail.get();
         inner_ = std::move(tail);
@@ -147,12 +139,12 @@ class IsotropicSolver final : public detail::OrderedSolver {
       cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
     }
     // A complex multiply-add is four real ones.
-    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > kSupernodalFlops;
+    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > options_.supernodal_flops;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     if (conformal_) {
-      inner_ = makeCholmodComplexSolver(supernodal, label, true);
+      inner_ = makeCholmodComplexSolver(supernodal, label, true, cholmod_options_);
     } else if (supernodal) {
-      inner_ = makeCholmodSolver(true, label, true);
+      inner_ = makeCholmodSolver(true, label, true, cholmod_options_);
     }
 #else
     static_cast<void>(supernodal);  // block-llt for every size
@@ -172,7 +164,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       buildPermuted(true);
     } else {
       // block-llt's up-looking factorisation needs no postorder: B's upper triangle as it is.
-      inner_ = makeBlockCholesky(Ordering::kNatural);
+      inner_ = makeBlockCholesky(Ordering::kNatural, block_options_);
     }
     freeEntries();
     return inner_->analyzeOrdered(scalar_, std::move(identity), label);
@@ -381,6 +373,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   Ordering ordering_;
   bool conformal_ = false;
+  IsotropicSolverOptions options_;
+  CholmodOptions cholmod_options_;        // of a CHOLMOD inner solver
+  BlockCholeskyOptions block_options_;    // of a block-llt inner solver
   std::unique_ptr<detail::OrderedSolver> inner_;
 #ifdef GRAPHSLAM_HAVE_LAPACK
   detail::TailCholesky* tail_ = nullptr;  // inner_ when it is tail-llt
@@ -487,12 +482,14 @@ int firstNonConformalColumn(const SparseStructure& s, const double* h) {
 
 }  // namespace detail
 
-std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering) {
-  return std::make_unique<IsotropicSolver>(ordering);
+std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering,
+                                                           const SolverOptions& options) {
+  return std::make_unique<IsotropicSolver>(ordering, false, options);
 }
 
-std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering) {
-  return std::make_unique<IsotropicSolver>(ordering, true);
+std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering,
+                                                           const SolverOptions& options) {
+  return std::make_unique<IsotropicSolver>(ordering, true, options);
 }
 
 }  // namespace graphslam::solvers

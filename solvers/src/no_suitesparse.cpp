@@ -7,7 +7,7 @@ namespace graphslam::solvers {
 
 bool haveSuiteSparse() { return false; }
 
-void registerSuiteSparseSolvers(SolverRegistry& /*registry*/) {
+void registerSuiteSparseSolvers(SolverRegistry& /*registry*/, const SolverOptions& /*options*/) {
   throw RegistryError(
       "graphslam was built without SuiteSparse: the cholmod, csparse, umfpack and spqr solvers "
       "are not available (install libsuitesparse-dev and reconfigure)");

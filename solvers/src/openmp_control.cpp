@@ -3,6 +3,7 @@
 
 #include <dlfcn.h>
 
+#include <atomic>
 #include <mutex>
 
 namespace graphslam::solvers::detail {
@@ -26,14 +27,20 @@ const OpenMpApi& api() {
   return instance;
 }
 
+std::atomic<bool> g_enabled{false};
 std::mutex g_mutex;
 int g_depth = 0;
 int g_saved = 0;
 
 }  // namespace
 
+void SerialOpenMp::enable(bool on) { g_enabled.store(on); }
+
+bool SerialOpenMp::enabled() { return g_enabled.load(); }
+
 SerialOpenMp::SerialOpenMp() {
-  if (!api().set_levels) return;
+  if (!g_enabled.load() || !api().set_levels) return;
+  active_ = true;
   const std::lock_guard<std::mutex> lock(g_mutex);
   if (g_depth++ == 0) {
     g_saved = api().get_levels();
@@ -42,7 +49,7 @@ SerialOpenMp::SerialOpenMp() {
 }
 
 SerialOpenMp::~SerialOpenMp() {
-  if (!api().set_levels) return;
+  if (!active_) return;
   const std::lock_guard<std::mutex> lock(g_mutex);
   if (--g_depth == 0) api().set_levels(g_saved);
 }

@@ -5,6 +5,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <numeric>
 
@@ -17,13 +18,33 @@
 #include <colamd.h>
 #endif
 
-namespace graphslam::solvers::detail {
+namespace graphslam::solvers {
 
-namespace {
-/// From this many blocks on, AMD and METIS block orderings are kept for the next request
-/// with the same block graph (cachedBlockOrdering).
-constexpr int kCacheMinBlocks = 50000;
-}  // namespace
+/// The kept orderings: one AMD and one METIS block ordering, each of the most recent
+/// graph it was asked for.
+struct OrderingCache::Impl {
+  struct Entry {
+    std::uint64_t key = 0;
+    std::vector<int> perm;
+  };
+  std::mutex mutex;
+  Entry amd, metis;
+};
+
+OrderingCache::OrderingCache(OrderingCacheOptions options)
+    : options_(options), impl_(std::make_unique<Impl>()) {}
+
+OrderingCache::~OrderingCache() = default;
+
+void OrderingCache::clear() {
+  const std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->amd = {};
+  impl_->metis = {};
+}
+
+}  // namespace graphslam::solvers
+
+namespace graphslam::solvers::detail {
 
 std::vector<int> blockOfColumn(const int* block_starts, int num_blocks, int n) {
   std::vector<int> block(static_cast<std::size_t>(n));
@@ -86,8 +107,8 @@ std::vector<int> amdBlocks(const BlockGraph& g, double* block_work = nullptr) {
   // one never adds a neighbour to another block (a leaf leaves its neighbour's list; a block
   // between a and b becomes b in a's list and a in b's, or leaves both when a and b are
   // adjacent already), so the lists shrink in place and each step may free the next. Pose
-  // chains without loop closures go this way (citytrees10000: 8308 of 10100 blocks,
-  // m3500b: 1117 of 3500), and AMD orders only the rest, where it spends its time.
+  // chains without loop closures (most blocks of a typical pose graph) go this way, and
+  // AMD orders only the rest, where it spends its time.
   // AMD's counts of the factor, for the eliminated blocks as AMD defines them: b_j
   // entries below the diagonal, b_j (b_j + 1) / 2 multiply-subtract pairs.
   double lnz = 0.0, nms = 0.0;
@@ -249,10 +270,9 @@ std::vector<int> metisBlocks(const BlockGraph& g) {
 /// increasing degree; the whole order reversed. Components in the order of their lowest
 /// node. The root: from that node, the lowest-degree node of the last level while that
 /// deepens the search; a candidate as deep as the root is as good a root, and its search
-/// (every search sorts) is the order, which saves one search. Boost.Graph's
-/// cuthill_mckee_ordering gives the same kind of order but took 100-180 microseconds on a
-/// 400-node graph of 4471 edges (2d_linear_loop's H_s, with the compressed graph built for
-/// it) against 24 here, where the whole solve takes about 0.1 ms.
+/// (every search sorts) is the order, which saves one search. Written here rather than
+/// taken from a graph library: it works on the block graph as it is, without building
+/// another graph, which matters where the whole solve is a fraction of a millisecond.
 std::vector<int> rcmBlocks(const BlockGraph& g) {
   const int n = g.num_blocks;
   std::vector<int> degree(static_cast<std::size_t>(n), 0);
@@ -448,13 +468,13 @@ std::vector<Ordering> availableOrderings() {
 #endif
 }
 
-std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s) {
+std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, OrderingCache* cache) {
   if (ordering == Ordering::kNatural) {  // no graph needed
     std::vector<int> perm(static_cast<std::size_t>(s.n));
     std::iota(perm.begin(), perm.end(), 0);
     return perm;
   }
-  return orderColumns(ordering, s, blockGraph(s));
+  return orderColumns(ordering, s, blockGraph(s), cache);
 }
 
 namespace {
@@ -474,28 +494,25 @@ std::uint64_t fingerprint(const BlockGraph& g) {
   return h;
 }
 
-/// Block orderings of large graphs are kept (one per ordering, the most recent graph):
-/// AMD and METIS take seconds on a million blocks, and the global initial guess orders
-/// the same pose graph as the optimizer (2x2 and 3x3 blocks, one block graph). A
-/// fingerprint collision could only cost fill: every permutation of the blocks is valid.
-std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g) {
-  if (g.num_blocks < kCacheMinBlocks) return orderBlockGraph(ordering, g);
-  struct Entry {
-    std::uint64_t key = 0;
-    std::vector<int> perm;
-  };
-  static std::mutex mutex;
-  static Entry amd, metis;
-  Entry& entry = ordering == Ordering::kMetis ? metis : amd;
+/// Whether `cache` keeps the orderings of `g`.
+bool cached(const OrderingCache* cache, const BlockGraph& g) {
+  return cache && g.num_blocks >= cache->options().min_blocks;
+}
+
+/// The AMD or METIS block ordering of `g`, looked up in `cache` and kept there.
+std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g,
+                                     OrderingCache& cache) {
+  OrderingCache::Impl& impl = cache.impl();
+  OrderingCache::Impl::Entry& entry = ordering == Ordering::kMetis ? impl.metis : impl.amd;
   const std::uint64_t key = fingerprint(g);
   {
-    const std::lock_guard<std::mutex> lock(mutex);
+    const std::lock_guard<std::mutex> lock(impl.mutex);
     if (entry.key == key && entry.perm.size() == static_cast<std::size_t>(g.num_blocks)) {
       return entry.perm;
     }
   }
   std::vector<int> perm = orderBlockGraph(ordering, g);
-  const std::lock_guard<std::mutex> lock(mutex);
+  const std::lock_guard<std::mutex> lock(impl.mutex);
   entry.key = key;
   entry.perm = perm;
   return perm;
@@ -503,19 +520,21 @@ std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g) {
 
 }  // namespace
 
-std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const BlockGraph& g) {
+std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const BlockGraph& g,
+                              OrderingCache* cache) {
   const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
-  if (ordering == Ordering::kMetis || (amd && g.num_blocks >= kCacheMinBlocks)) {
-    return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g), s.block_starts, s.n);
+  if ((ordering == Ordering::kMetis || amd) && cached(cache, g)) {
+    return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g, *cache),
+                  s.block_starts, s.n);
   }
   return expand(orderBlockGraph(ordering, g), s.block_starts, s.n);
 }
 
 std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
-                                 double* block_work) {
-  if (g.num_blocks >= kCacheMinBlocks) {
+                                 double* block_work, OrderingCache* cache) {
+  if (cached(cache, g)) {
     if (block_work) *block_work = -1.0;
-    return orderColumns(Ordering::kAmd, s, g);
+    return orderColumns(Ordering::kAmd, s, g, cache);
   }
   return expand(amdBlocks(g, block_work), s.block_starts, s.n);
 }
@@ -539,7 +558,7 @@ std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s) {
 }
 
 LinearSolverResult OrderedSolver::analyze(const SparseStructure& s) {
-  return analyzeOrdered(s, orderColumns(ordering(), s), ordering());
+  return analyzeOrdered(s, orderColumns(ordering(), s, ordering_cache_.get()), ordering());
 }
 
 std::vector<int> inversePermutation(const std::vector<int>& perm) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/options.h"
 #include "graphslam/solvers/ordering.h"
 
 namespace graphslam::solvers::detail {
@@ -28,26 +29,32 @@ struct BlockGraph {
 /// Fill-reducing ordering of H's columns, computed on the block graph and expanded to
 /// scalar columns: perm[k] = original column placed at position k. kColamd orders the
 /// columns of H's block pattern as an unsymmetric matrix (as SuperLU's COLAMD option
-/// does). Throws graphslam::Error for an ordering this build lacks.
-[[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s);
+/// does). Throws graphslam::Error for an ordering this build lacks. With a `cache`, the
+/// AMD and METIS block orderings of graphs as large as its options say are looked up
+/// there and kept.
+[[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s,
+                                            OrderingCache* cache = nullptr);
 /// The same with H's block graph already built (blockGraph(s)).
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s,
-                                            const BlockGraph& g);
-/// orderColumns(kAmd, s, g), and AMD's own count of the factor's work on the block graph:
-/// block_work = sum over block columns of (blocks in the column, diagonal included)^2,
-/// close to the exact count; -1 when there is none (this build has no SuiteSparse, AMD
-/// set dense rows aside, or the graph is large enough for its orderings to be cached).
+                                            const BlockGraph& g, OrderingCache* cache = nullptr);
+/// orderColumns(kAmd, s, g, cache), and AMD's own count of the factor's work on the block
+/// graph: block_work = sum over block columns of (blocks in the column, diagonal
+/// included)^2, close to the exact count; -1 when there is none (this build has no
+/// SuiteSparse, AMD set dense rows aside, or the graph is large enough for `cache` to
+/// keep its orderings).
 [[nodiscard]] std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
-                                               double* block_work);
+                                               double* block_work, OrderingCache* cache);
 /// Same for the columns of J: kColamd orders J's block pattern (fill in R of J = QR);
 /// kAmd and kMetis order the block graph of J^T J.
 [[nodiscard]] std::vector<int> orderColumns(Ordering ordering, const JacobianStructure& s);
 
-/// chooseOrdering() with H's block graph already built (blockGraph(s)). With `exact`
-/// false, a small system (AMD's own bound on the work far below every threshold of the
-/// choice) gets no exact prediction: factor_nonzeros is -1 and flops that bound.
+/// chooseOrdering() with H's block graph already built (blockGraph(s)), the auto solver's
+/// tuning and its cache of block orderings (may be null). With `exact` false, a small
+/// system (AMD's own bound on the work far below every threshold of the choice) gets no
+/// exact prediction: factor_nonzeros is -1 and flops that bound.
 [[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s, const BlockGraph& g,
-                                            bool exact = true);
+                                            const AutoSolverOptions& options,
+                                            OrderingCache* cache, bool exact = true);
 
 /// Inverse of a permutation.
 [[nodiscard]] std::vector<int> inversePermutation(const std::vector<int>& perm);

@@ -6,6 +6,7 @@
 
 #include "common.h"
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/options.h"
 
 namespace graphslam::solvers {
 
@@ -14,13 +15,18 @@ namespace graphslam::solvers {
 /// postordered order, and analyzeOrdered() takes the identity order only: CHOLMOD then
 /// factorises the given arrays without copying them (ordering() is only a label).
 std::unique_ptr<detail::OrderedSolver> makeCholmodSolver(bool supernodal, Ordering ordering,
-                                                         bool prepermuted_lower = false);
+                                                         bool prepermuted_lower,
+                                                         const CholmodOptions& options);
 /// CHOLMOD on a Hermitian matrix: values, right-hand side and solution interleaved
 /// complex (two doubles each); the structure counts complex entries and unknowns.
 std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal, Ordering ordering,
-                                                                bool prepermuted_lower = false);
-std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering);
-std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering);
+                                                                bool prepermuted_lower,
+                                                                const CholmodOptions& options);
+/// `cache`: the block orderings the solver's analysis looks up (null: none).
+std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering,
+                                                std::shared_ptr<OrderingCache> cache);
+std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
+                                                std::shared_ptr<OrderingCache> cache);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);
 
 }  // namespace graphslam::solvers

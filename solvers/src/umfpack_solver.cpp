@@ -2,6 +2,7 @@
 #include <umfpack.h>
 
 #include <memory>
+#include <utility>
 
 #include "common.h"
 #include "ordering.h"
@@ -17,7 +18,8 @@ namespace {
 /// symmetrically (P = Q), a non-positive diagonal of U is reported as such.
 class UmfpackSolver final : public LinearSolver {
  public:
-  explicit UmfpackSolver(Ordering ordering) : ordering_(ordering) {
+  UmfpackSolver(Ordering ordering, std::shared_ptr<OrderingCache> cache)
+      : ordering_(ordering), cache_(std::move(cache)) {
     umfpack_di_defaults(control_);
     control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
   }
@@ -30,7 +32,7 @@ class UmfpackSolver final : public LinearSolver {
     release();
     full_.build(s);
     values_.assign(full_.source.size(), 0.0);
-    const std::vector<int> qinit = detail::orderColumns(ordering_, s);
+    const std::vector<int> qinit = detail::orderColumns(ordering_, s, cache_.get());
     const int status = umfpack_di_qsymbolic(s.n, s.n, full_.col_ptr.data(), full_.row_idx.data(),
                                             nullptr, qinit.data(), &symbolic_, control_, info_);
     if (status != UMFPACK_OK) {
@@ -121,6 +123,7 @@ class UmfpackSolver final : public LinearSolver {
   }
 
   Ordering ordering_;
+  std::shared_ptr<OrderingCache> cache_;  // block orderings kept between analyses (may be null)
   detail::FullPattern full_;
   std::vector<double> values_, work_, d_;
   std::vector<int> p_, q_;
@@ -132,8 +135,9 @@ class UmfpackSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering) {
-  return std::make_unique<UmfpackSolver>(ordering);
+std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
+                                                std::shared_ptr<OrderingCache> cache) {
+  return std::make_unique<UmfpackSolver>(ordering, std::move(cache));
 }
 
 }  // namespace graphslam::solvers

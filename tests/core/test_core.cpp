@@ -1022,9 +1022,19 @@ struct alignas(32) Wide {
 }  // namespace
 
 #if defined(__linux__)
-// A freed huge-page array's mapping serves the next array of the same rounded length (its
-// pages are faulted in already); the mappings kept stay within their bound.
+// By default a freed huge-page array is unmapped: the library keeps nothing for itself.
+TEST(Core_LargeArray, FreedMappingsAreNotKeptWithoutTheApplicationsOptIn) {
+  const std::size_t n = LargeArrayAllocator<double>::kHugePageMinBytes / sizeof(double) + 10;
+  { const LargeVector<double> a(n, 1.0); }
+  EXPECT_EQ(detail::retainedLargeArrayBytes(), 0u);
+}
+
+// With the application's opt-in, a freed huge-page array's mapping serves the next array of
+// the same rounded length (its pages are faulted in already); the mappings kept stay within
+// their bound, and turning retention off releases them.
 TEST(Core_LargeArray, FreedMappingsServeTheNextArrayOfTheSameRoundedLength) {
+  const LargeArrayRetention retention;
+  setLargeArrayRetention(retention);
   constexpr std::size_t kLarge = LargeArrayAllocator<double>::kHugePageMinBytes;
   const std::size_t n = kLarge / sizeof(double) + 10;  // rounded to 2 MiB
   const double* first = nullptr;
@@ -1043,7 +1053,9 @@ TEST(Core_LargeArray, FreedMappingsServeTheNextArrayOfTheSameRoundedLength) {
     std::vector<LargeVector<char>> many;
     for (int i = 0; i < 20; ++i) many.emplace_back(std::size_t{3} << 20);
   }
-  EXPECT_LE(detail::retainedLargeArrayBytes(), std::size_t{16} << 20);
+  EXPECT_LE(detail::retainedLargeArrayBytes(), retention.max_bytes);
+  setLargeArrayRetention(LargeArrayRetention{0, 0});
+  EXPECT_EQ(detail::retainedLargeArrayBytes(), 0u);
 }
 #endif
 

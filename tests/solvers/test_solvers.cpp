@@ -465,8 +465,9 @@ BlockRowsPattern largeBlockPattern(int nb, int bs, unsigned seed) {
 
 TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
   // The global initial guess (2x2 blocks) and the optimizer (3x3) order one pose graph;
-  // from 50000 blocks on, the block ordering is kept for the next request with the same
-  // block graph. Each must still get the ordering of its own graph.
+  // with a shared OrderingCache, from its min_blocks on, the block ordering is kept for the
+  // next request with the same block graph. Each must still get the ordering of its own
+  // graph.
   std::vector<Ordering> orderings{Ordering::kAmd};
   if (solvers::haveSuiteSparse()) orderings.push_back(Ordering::kMetis);
   for (Ordering o : orderings) {
@@ -482,9 +483,13 @@ TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
       }
       return order;
     };
-    const auto p2 = blocks_of(solvers::fillReducingOrdering(o, two.structure()), 2);
-    const auto p3 = blocks_of(solvers::fillReducingOrdering(o, three.structure()), 3);
-    const auto po = blocks_of(solvers::fillReducingOrdering(o, other.structure()), 3);
+    solvers::OrderingCache cache;
+    ASSERT_LE(cache.options().min_blocks, 60000);
+    const auto p2 = blocks_of(solvers::fillReducingOrdering(o, two.structure(), &cache), 2);
+    const auto p3 = blocks_of(solvers::fillReducingOrdering(o, three.structure(), &cache), 3);
+    const auto po = blocks_of(solvers::fillReducingOrdering(o, other.structure(), &cache), 3);
+    // Without a cache, the same orderings.
+    EXPECT_EQ(blocks_of(solvers::fillReducingOrdering(o, three.structure()), 3), p3);
     EXPECT_EQ(p2, p3);
     EXPECT_NE(po, p3);  // another graph of the same size is ordered anew
     for (const auto* p : {&p3, &po}) {

@@ -7,42 +7,66 @@
 
 namespace graphslam {
 
+/// Tuning of LargeArrayAllocator: which arrays get memory of their own on huge pages.
+struct LargeArrayOptions {
+  /// Arrays of at least this many bytes get a mapping of their own, aligned to 2 MiB,
+  /// rounded up to a multiple of 2 MiB and advised for transparent huge pages. Below, the
+  /// rounding would waste more than the page faults it saves.
+  std::size_t huge_page_min_bytes = std::size_t{512} << 10;
+  /// Arrays of more bytes stay on ordinary pages: fresh huge pages are slow to fault in on
+  /// some (virtual) machines, and for arrays this large that outweighs the faults saved.
+  std::size_t huge_page_max_bytes = std::size_t{8} << 20;
+};
+
+/// The options LargeArrayAllocator is built with. They are constants, not a setting: the
+/// allocator is stateless, and an array's release must take the same path as its
+/// allocation, so the bounds may not change while any array lives.
+inline constexpr LargeArrayOptions kLargeArrayOptions{};
+
+/// Which freed huge-page mappings are kept for reuse (setLargeArrayRetention).
+struct LargeArrayRetention {
+  /// At most this many freed mappings are kept ...
+  std::size_t max_mappings = 8;
+  /// ... holding at most this many bytes in all.
+  std::size_t max_bytes = std::size_t{16} << 20;
+};
+
+/// The application's opt-in (Linux; elsewhere it does nothing): a freed huge-page array's
+/// mapping is kept, within `retention`, for the next array of the same rounded length, so
+/// that an optimisation following another (online SLAM re-optimising its graph, repeated
+/// runs) finds its arrays' pages faulted in already instead of having the kernel zero
+/// fresh ones. The kept mappings are the process's, shared by every thread, and stay
+/// mapped until reused or until retention is turned off (LargeArrayRetention{0, 0}, which
+/// releases them). By default nothing is kept: every array is unmapped when freed.
+void setLargeArrayRetention(const LargeArrayRetention& retention);
+
 namespace detail {
 /// Memory of at least `bytes` (> 0) for a large array: on Linux, mapped on its own,
 /// aligned to 2 MiB, rounded up to a multiple of 2 MiB and advised for transparent huge
-/// pages; elsewhere from operator new. Throws std::bad_alloc.
+/// pages (or a kept mapping of that length, setLargeArrayRetention); elsewhere from
+/// operator new. Throws std::bad_alloc.
 void* allocateLargeArray(std::size_t bytes);
-/// Returns memory from allocateLargeArray() of the same `bytes`. On Linux the mapping is
-/// kept for the next array of the same rounded length (at most 8 mappings, 16 MiB in
-/// all), so that an optimisation following another finds its arrays' pages faulted in
-/// already; beyond that it is unmapped.
+/// Returns memory from allocateLargeArray() of the same `bytes`: unmapped, or kept when
+/// the application asked for retention and there is room.
 void deallocateLargeArray(void* p, std::size_t bytes) noexcept;
-/// Bytes of freed mappings kept for reuse (0 off Linux).
+/// Bytes of freed mappings kept for reuse (0 off Linux and without retention).
 std::size_t retainedLargeArrayBytes();
 }  // namespace detail
 
 /// Allocator of the large numeric arrays of the hot path (H's values and block
-/// references, block-llt's factor and workspace). An array of kHugePageMinBytes to
-/// kHugePageMaxBytes gets memory of its own, aligned to 2 MiB and advised for transparent
-/// huge pages (Linux, when the kernel's setting is "madvise" or "always"): the kernel then
-/// backs it with 2 MiB pages, and a process touching it for the first time takes one page
-/// fault per 2 MiB instead of one per 4 KiB. On the project's machines a 4 KiB fault costs
-/// about 2.7 microseconds and a cold optimisation of citytrees10000 took about 2300 of
-/// them; with these arrays on huge pages it takes about 1000 and reaches its target about
-/// 2.5 ms (12 %) sooner. Larger arrays (the 100k- and 1M-pose graphs') stay on ordinary
-/// pages: there huge pages made the optimisation 2-5 % slower (fresh huge pages are slow
-/// to fault in on these virtual machines: 200 MB took 0.56 s against 0.14 s). Other sizes
-/// come from operator new as usual. The rounding to 2 MiB costs at most 1.5 MiB of memory
-/// per array. Freed, such an array's mapping is kept for the next one of the same rounded
-/// length (deallocateLargeArray): a fresh 2 MiB page costs 0.24-0.52 ms of zeroing here,
-/// and m3500b's H and factor take one each, every optimisation (0.5 ms of its 5.5 ms to
-/// the target in repeated runs).
+/// references, block-llt's factor and workspace). An array of
+/// kLargeArrayOptions.huge_page_min_bytes to huge_page_max_bytes gets memory of its own,
+/// aligned to 2 MiB and advised for transparent huge pages (Linux, when the kernel's
+/// setting is "madvise" or "always"): the kernel then backs it with 2 MiB pages, and a
+/// process touching it for the first time takes one page fault per 2 MiB instead of one
+/// per 4 KiB. The rounding to 2 MiB costs at most 1.5 MiB of memory per array. Other sizes
+/// come from operator new as usual.
 template <class T>
 class LargeArrayAllocator {
  public:
   using value_type = T;
-  static constexpr std::size_t kHugePageMinBytes = std::size_t{512} << 10;
-  static constexpr std::size_t kHugePageMaxBytes = std::size_t{8} << 20;
+  static constexpr std::size_t kHugePageMinBytes = kLargeArrayOptions.huge_page_min_bytes;
+  static constexpr std::size_t kHugePageMaxBytes = kLargeArrayOptions.huge_page_max_bytes;
 
   LargeArrayAllocator() noexcept = default;
   template <class U>

@@ -4,13 +4,16 @@
 #include <vector>
 
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/solvers/options.h"
 
 namespace graphslam::solvers {
 
 /// Fill-reducing ordering of H's columns computed on the block graph and expanded to
 /// scalar columns: perm[k] = original column at position k. kMetis and kColamd need
-/// SuiteSparse; an ordering this build lacks throws graphslam::Error.
-[[nodiscard]] std::vector<int> fillReducingOrdering(Ordering ordering, const SparseStructure& s);
+/// SuiteSparse; an ordering this build lacks throws graphslam::Error. With a `cache`, the
+/// AMD and METIS block orderings of large graphs are looked up there and kept.
+[[nodiscard]] std::vector<int> fillReducingOrdering(Ordering ordering, const SparseStructure& s,
+                                                    OrderingCache* cache = nullptr);
 
 /// Size and work of the Cholesky factor of P H P^T predicted exactly from the pattern
 /// (block elimination tree and row subtrees, O(non-zero blocks of L)).
@@ -21,13 +24,14 @@ struct CholeskyPrediction {
 [[nodiscard]] CholeskyPrediction predictCholesky(const SparseStructure& s,
                                                  const std::vector<int>& perm);
 
-/// The ordering the "auto" solver uses: AMD, or METIS when AMD predicts more than 2e8
-/// flops and METIS fewer.
+/// The ordering the "auto" solver uses: AMD, or METIS when AMD predicts more than
+/// options.try_metis_flops and METIS fewer.
 struct ChosenOrdering {
   Ordering ordering = Ordering::kAmd;
   std::vector<int> perm;
   CholeskyPrediction prediction;
 };
-[[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s);
+[[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s,
+                                            const AutoSolverOptions& options = {});
 
 }  // namespace graphslam::solvers
