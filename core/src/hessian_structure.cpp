@@ -39,8 +39,27 @@ bool HessianStructure::stale(const Graph& graph) const {
 
 void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) {
   version_ = graph.structureVersion();
-  // Every array gets its exact size up front: on large graphs (1M vertices) doubling
-  // growth would leave up to half of each one unused.
+  assignColumns(graph, block_order);
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<int> first_block;
+  collectEdges(graph, pairs, first_block);
+  if (lower_) sortEdgesByFirstBlock(first_block);
+  // Exact sizes (large graphs), copied only when the room reserved was not all used.
+  if (b_offsets_.capacity() != b_offsets_.size()) std::vector<int>(b_offsets_).swap(b_offsets_);
+  if (edge_b_start_.capacity() != edge_b_start_.size()) {
+    std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
+  }
+  const int nb = static_cast<int>(active_vertices_.size());
+  const BlockPattern pattern =
+      lower_ ? transposed(BlockPattern::fromPairs(nb, pairs)) : BlockPattern::fromPairs(nb, pairs);
+  buildScalarPattern(pattern);
+  LargeVector<HessianBlockRef>().swap(refs_);
+  std::vector<std::uint32_t>().swap(edge_ref_start_);
+}
+
+void HessianStructure::assignColumns(Graph& graph, const std::vector<int>* block_order) {
+  // Every array gets its exact size up front: on large graphs doubling growth would leave
+  // up to half of each one unused.
   fixed_snapshot_.clear();
   fixed_snapshot_.reserve(graph.numVertices());
   active_vertices_.clear();
@@ -67,6 +86,10 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
     block_starts_.push_back(col);
   }
   n_ = col;
+}
+
+void HessianStructure::collectEdges(const Graph& graph, std::vector<std::pair<int, int>>& pairs,
+                                    std::vector<int>& first_block) {
   const int nb = static_cast<int>(active_vertices_.size());
   // Block of a vertex, through the column index just assigned (no hashing).
   std::vector<int> block_of_col(static_cast<std::size_t>(n_), -1);
@@ -74,16 +97,12 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
   auto block_of = [&](const Vertex* v) {
     return v->hessianIndex() >= 0 ? block_of_col[v->hessianIndex()] : -1;
   };
-
-  // Block pattern: for every block column, the block rows (<= column) it holds.
   active_edges_.clear();
   active_edges_.reserve(graph.edges().size());
-  std::vector<std::pair<int, int>> pairs;
   pairs.reserve(graph.edges().size());
   std::vector<int> blocks;
   // In a solver's order, the edges go by their first block in that order (a counting
   // sort): assembling H then writes its columns in turn instead of all over the array.
-  std::vector<int> first_block;
   if (lower_) first_block.reserve(graph.edges().size());
   // Every active edge's slots: their columns (b's offsets, -1 for a fixed vertex),
   // recorded now, while the vertices are visited anyway (another structure on the same
@@ -112,41 +131,39 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
     }
   }
   edge_b_start_.push_back(static_cast<std::uint32_t>(b_offsets_.size()));
-  if (lower_) {
-    const std::size_t m = active_edges_.size();
-    std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1, 0);
-    for (int b : first_block) ++start[static_cast<std::size_t>(b) + 1];
-    for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
-    std::vector<std::size_t> position(m);  // of every edge in the sorted order
-    std::vector<Edge*> sorted(m);
-    std::vector<std::uint32_t> sorted_start(m + 1, 0);
-    for (std::size_t k = 0; k < m; ++k) {
-      position[k] = start[static_cast<std::size_t>(first_block[k])]++;
-      sorted[position[k]] = active_edges_[k];
-      sorted_start[position[k] + 1] = edge_b_start_[k + 1] - edge_b_start_[k];
-    }
-    for (std::size_t k = 0; k < m; ++k) sorted_start[k + 1] += sorted_start[k];
-    std::vector<int> sorted_offsets(b_offsets_.size());
-    for (std::size_t k = 0; k < m; ++k) {
-      std::copy(b_offsets_.begin() + edge_b_start_[k], b_offsets_.begin() + edge_b_start_[k + 1],
-                sorted_offsets.begin() + sorted_start[position[k]]);
-    }
-    active_edges_.swap(sorted);
-    b_offsets_.swap(sorted_offsets);
-    edge_b_start_.swap(sorted_start);
-  }
-  // Exact sizes (large graphs), copied only when the room reserved was not all used.
-  if (b_offsets_.capacity() != b_offsets_.size()) std::vector<int>(b_offsets_).swap(b_offsets_);
-  if (edge_b_start_.capacity() != edge_b_start_.size()) {
-    std::vector<std::uint32_t>(edge_b_start_).swap(edge_b_start_);
-  }
-  const BlockPattern pattern =
-      lower_ ? transposed(BlockPattern::fromPairs(nb, pairs)) : BlockPattern::fromPairs(nb, pairs);
+}
 
+void HessianStructure::sortEdgesByFirstBlock(const std::vector<int>& first_block) {
+  const int nb = static_cast<int>(active_vertices_.size());
+  const std::size_t m = active_edges_.size();
+  std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1, 0);
+  for (int b : first_block) ++start[static_cast<std::size_t>(b) + 1];
+  for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
+  std::vector<std::size_t> position(m);  // of every edge in the sorted order
+  std::vector<Edge*> sorted(m);
+  std::vector<std::uint32_t> sorted_start(m + 1, 0);
+  for (std::size_t k = 0; k < m; ++k) {
+    position[k] = start[static_cast<std::size_t>(first_block[k])]++;
+    sorted[position[k]] = active_edges_[k];
+    sorted_start[position[k] + 1] = edge_b_start_[k + 1] - edge_b_start_[k];
+  }
+  for (std::size_t k = 0; k < m; ++k) sorted_start[k + 1] += sorted_start[k];
+  std::vector<int> sorted_offsets(b_offsets_.size());
+  for (std::size_t k = 0; k < m; ++k) {
+    std::copy(b_offsets_.begin() + edge_b_start_[k], b_offsets_.begin() + edge_b_start_[k + 1],
+              sorted_offsets.begin() + sorted_start[position[k]]);
+  }
+  active_edges_.swap(sorted);
+  b_offsets_.swap(sorted_offsets);
+  edge_b_start_.swap(sorted_start);
+}
+
+void HessianStructure::buildScalarPattern(const BlockPattern& pattern) {
+  const int nb = static_cast<int>(active_vertices_.size());
   // Scalar CSC: every column of block column j holds all rows of its row blocks (those
-  // <= j, or >= j for the lower triangle), so the
-  // diagonal block is stored full and every column of a block has the same length.
-  // within[k]: offset of the k-th row block of its column within the column.
+  // <= j, or >= j for the lower triangle), so the diagonal block is stored full and every
+  // column of a block has the same length. within[k]: offset of the k-th row block of its
+  // column within the column.
   std::vector<int> within(pattern.rows.size());
   std::vector<int> col_len(static_cast<std::size_t>(nb));
   std::size_t nnz = 0;
@@ -183,8 +200,6 @@ void HessianStructure::build(Graph& graph, const std::vector<int>* block_order) 
       diag_pos_[c] = col_ptr_[c] + within[diag_at] + k;
     }
   }
-  LargeVector<HessianBlockRef>().swap(refs_);
-  std::vector<std::uint32_t>().swap(edge_ref_start_);
 }
 
 std::vector<int> HessianStructure::blockOfColumn() const {

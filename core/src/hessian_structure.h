@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "graphslam/core/block_pattern.h"
 #include "graphslam/core/edge.h"
 #include "graphslam/core/graph.h"
 #include "graphslam/core/large_array.h"
@@ -63,6 +64,14 @@ class HessianStructure {
   [[nodiscard]] std::vector<int> blockOfColumn() const;
   /// The position of every active edge's blocks in H (refs_, edge_ref_start_).
   void buildRefs();
+  // The phases of build(): the active vertices and their columns; the active edges, their
+  // slots' columns and the pairs of blocks they couple; in a solver's order, the edges
+  // sorted by their first block; the scalar CSC pattern of the block pattern.
+  void assignColumns(Graph& graph, const std::vector<int>* block_order);
+  void collectEdges(const Graph& graph, std::vector<std::pair<int, int>>& pairs,
+                    std::vector<int>& first_block);
+  void sortEdgesByFirstBlock(const std::vector<int>& first_block);
+  void buildScalarPattern(const BlockPattern& pattern);
 
   std::vector<std::uint32_t> edge_b_start_;    // per active edge (and one past), into b_offsets_
   std::vector<int> b_offsets_;                 // per edge slot: its vertex's column, or -1

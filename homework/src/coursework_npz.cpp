@@ -121,6 +121,106 @@ void addEdge(Graph& g, VertexId a, VertexId b, const Eigen::Vector2d& z,
   g.addEdge(std::move(e));
 }
 
+/// The rows of the homework's arrays: odometry, observations (pose, landmark, z) and the
+/// pose and landmark index of each observation.
+struct Rows {
+  RowMatrix odom, obs;
+  std::vector<int> pose_of, landmark_of;
+};
+
+/// The observation model: the requested one, else the one the observations fit at the
+/// ground truth, else the file name's ("nonlinear"). Sets p.model and p.model_reason.
+void chooseModel(CourseworkProblem& p, const CourseworkNpzOptions& options,
+                 const std::string& path, const RowMatrix& obs, const RowMatrix* gt_traj,
+                 const RowMatrix* gt_landmarks) {
+  p.model = options.model;
+  if (p.model != PointObservationModel::kAuto) {
+    p.model_reason = "requested";
+    return;
+  }
+  if (gt_traj && gt_landmarks && obs.rows() > 0) {
+    const double lin = meanSquaredResidual(obs, *gt_traj, *gt_landmarks, false);
+    const double br = meanSquaredResidual(obs, *gt_traj, *gt_landmarks, true);
+    p.model = br < lin ? PointObservationModel::kBearingRange : PointObservationModel::kLinear;
+    std::ostringstream why;
+    why.precision(3);
+    why << "the observations fit the " << toString(p.model)
+        << " model at the ground truth (RMS residual " << std::sqrt(std::min(lin, br))
+        << ", against " << std::sqrt(std::max(lin, br)) << " for the "
+        << (br < lin ? "linear" : "bearing-range") << " one)";
+    p.model_reason = why.str();
+    return;
+  }
+  const std::string base = path.substr(path.find_last_of('/') + 1);
+  const bool nonlinear = base.find("nonlinear") != std::string::npos;
+  p.model = nonlinear ? PointObservationModel::kBearingRange : PointObservationModel::kLinear;
+  p.model_reason = std::string("no ground truth to test the models against; the file name ") +
+                   (nonlinear ? "contains" : "does not contain") + " \"nonlinear\"";
+}
+
+/// The vertices with the homework's initial guess: zero for the linear model; for the
+/// bearing-range one, poses by dead reckoning and each landmark from its first
+/// observation. Returns how many landmarks are never observed.
+std::size_t addVertices(CourseworkProblem& p, const Rows& r, bool bearing_range) {
+  std::vector<Eigen::Vector2d> traj(static_cast<std::size_t>(p.num_poses), Eigen::Vector2d::Zero());
+  std::vector<Eigen::Vector2d> lms(static_cast<std::size_t>(p.num_landmarks),
+                                   Eigen::Vector2d::Zero());
+  std::vector<char> seen(lms.size(), 0);
+  if (bearing_range) {
+    for (Eigen::Index i = 0; i < r.odom.rows(); ++i) {
+      traj[static_cast<std::size_t>(i) + 1] =
+          traj[static_cast<std::size_t>(i)] + r.odom.row(i).transpose();
+    }
+  }
+  for (Eigen::Index k = 0; k < r.obs.rows(); ++k) {
+    const auto l = static_cast<std::size_t>(r.landmark_of[static_cast<std::size_t>(k)]);
+    if (seen[l]) continue;
+    seen[l] = 1;
+    if (bearing_range) {
+      const Eigen::Vector2d& x =
+          traj[static_cast<std::size_t>(r.pose_of[static_cast<std::size_t>(k)])];
+      lms[l] = x + r.obs(k, 3) * Eigen::Vector2d(std::cos(r.obs(k, 2)), std::sin(r.obs(k, 2)));
+    }
+  }
+  auto add_vertex = [&](VertexId id, const Eigen::Vector2d& x) {
+    auto v = std::make_unique<VertexXY>();
+    v->setId(id);
+    v->setEstimate(x);
+    p.graph.addVertex(std::move(v));
+  };
+  for (int i = 0; i < p.num_poses; ++i) add_vertex(CourseworkProblem::poseId(i), traj[i]);
+  for (int j = 0; j < p.num_landmarks; ++j) add_vertex(p.landmarkId(j), lms[j]);
+  std::size_t unobserved = 0;
+  for (char s : seen) unobserved += s ? 0 : 1;
+  return unobserved;
+}
+
+/// The edges, in the homework's row order: prior, odometry, observations.
+void addEdges(CourseworkProblem& p, const Rows& r, const CourseworkNpzOptions& options,
+              const Eigen::Matrix2d& info_odom, const Eigen::Matrix2d& info_obs,
+              bool bearing_range) {
+  auto prior = std::make_unique<EdgePriorXY>();
+  prior->setVertexIds({CourseworkProblem::poseId(0)});
+  prior->setMeasurement(Eigen::Vector2d::Zero());
+  prior->setInformation(options.prior_information);
+  p.graph.addEdge(std::move(prior));
+  for (Eigen::Index i = 0; i < r.odom.rows(); ++i) {
+    addEdge<EdgePointXY>(p.graph, static_cast<VertexId>(i), static_cast<VertexId>(i + 1),
+                         r.odom.row(i).transpose(), info_odom);
+  }
+  for (Eigen::Index k = 0; k < r.obs.rows(); ++k) {
+    const auto row = static_cast<std::size_t>(k);
+    const VertexId a = CourseworkProblem::poseId(r.pose_of[row]);
+    const VertexId b = p.landmarkId(r.landmark_of[row]);
+    const Eigen::Vector2d z(r.obs(k, 2), r.obs(k, 3));
+    if (bearing_range) {
+      addEdge<EdgeXYBearingRange>(p.graph, a, b, z, info_obs);
+    } else {
+      addEdge<EdgePointXY>(p.graph, a, b, z, info_obs);
+    }
+  }
+}
+
 }  // namespace
 
 const char* toString(PointObservationModel model) {
@@ -140,13 +240,14 @@ CourseworkProblem loadCourseworkNpz(const std::string& path, const CourseworkNpz
   const Reader in{npz};
   CourseworkProblem p;
 
-  const RowMatrix odom = in.matrix("odom", -1, 2);
-  const RowMatrix obs = in.matrix("observations", -1, 4);
+  Rows r;
+  r.odom = in.matrix("odom", -1, 2);
+  r.obs = in.matrix("observations", -1, 4);
   const Eigen::Matrix2d info_odom = in.information("sigma_odom", p.sigma_odom);
   const Eigen::Matrix2d info_obs = in.information("sigma_landmark", p.sigma_landmark);
-  p.num_poses = static_cast<int>(odom.rows()) + 1;
-  p.num_odometry = static_cast<std::size_t>(odom.rows());
-  p.num_observations = static_cast<std::size_t>(obs.rows());
+  p.num_poses = static_cast<int>(r.odom.rows()) + 1;
+  p.num_odometry = static_cast<std::size_t>(r.odom.rows());
+  p.num_observations = static_cast<std::size_t>(r.obs.rows());
 
   const bool has_traj = npz.contains("gt_traj");
   const bool has_landmarks = npz.contains("gt_landmarks");
@@ -157,100 +258,25 @@ CourseworkProblem loadCourseworkNpz(const std::string& path, const CourseworkNpz
     p.num_landmarks = static_cast<int>(gt_landmarks.rows());
   } else {
     double largest = -1;
-    for (Eigen::Index k = 0; k < obs.rows(); ++k) largest = std::max(largest, obs(k, 1));
+    for (Eigen::Index k = 0; k < r.obs.rows(); ++k) largest = std::max(largest, r.obs(k, 1));
     if (largest >= std::numeric_limits<int>::max() - p.num_poses) {
       in.fail("observations", "landmark index " + std::to_string(largest) + " is too large");
     }
     p.num_landmarks = static_cast<int>(std::floor(largest)) + 1;
   }
-  std::vector<int> pose_of(static_cast<std::size_t>(obs.rows()));
-  std::vector<int> landmark_of(pose_of.size());
-  for (Eigen::Index k = 0; k < obs.rows(); ++k) {
+  r.pose_of.resize(static_cast<std::size_t>(r.obs.rows()));
+  r.landmark_of.resize(r.pose_of.size());
+  for (Eigen::Index k = 0; k < r.obs.rows(); ++k) {
     const auto row = static_cast<std::size_t>(k);
-    pose_of[row] = in.index(obs(k, 0), row, "pose", p.num_poses);
-    landmark_of[row] = in.index(obs(k, 1), row, "landmark", p.num_landmarks);
+    r.pose_of[row] = in.index(r.obs(k, 0), row, "pose", p.num_poses);
+    r.landmark_of[row] = in.index(r.obs(k, 1), row, "landmark", p.num_landmarks);
   }
 
-  // Which observation model.
-  p.model = options.model;
-  if (p.model == PointObservationModel::kAuto) {
-    if (has_traj && has_landmarks && obs.rows() > 0) {
-      const double lin = meanSquaredResidual(obs, gt_traj, gt_landmarks, false);
-      const double br = meanSquaredResidual(obs, gt_traj, gt_landmarks, true);
-      p.model = br < lin ? PointObservationModel::kBearingRange : PointObservationModel::kLinear;
-      std::ostringstream why;
-      why.precision(3);
-      why << "the observations fit the " << toString(p.model)
-          << " model at the ground truth (RMS residual " << std::sqrt(std::min(lin, br))
-          << ", against " << std::sqrt(std::max(lin, br)) << " for the "
-          << (br < lin ? "linear" : "bearing-range") << " one)";
-      p.model_reason = why.str();
-    } else {
-      const std::string base = path.substr(path.find_last_of('/') + 1);
-      const bool nonlinear = base.find("nonlinear") != std::string::npos;
-      p.model = nonlinear ? PointObservationModel::kBearingRange : PointObservationModel::kLinear;
-      p.model_reason = std::string("no ground truth to test the models against; the file name ") +
-                       (nonlinear ? "contains" : "does not contain") + " \"nonlinear\"";
-    }
-  } else {
-    p.model_reason = "requested";
-  }
+  chooseModel(p, options, path, r.obs, has_traj ? &gt_traj : nullptr,
+              has_landmarks ? &gt_landmarks : nullptr);
   const bool bearing_range = p.model == PointObservationModel::kBearingRange;
-
-  // Vertices and initial guess.
-  std::vector<Eigen::Vector2d> traj(static_cast<std::size_t>(p.num_poses), Eigen::Vector2d::Zero());
-  std::vector<Eigen::Vector2d> lms(static_cast<std::size_t>(p.num_landmarks),
-                                   Eigen::Vector2d::Zero());
-  std::vector<char> seen(lms.size(), 0);
-  if (bearing_range) {
-    for (Eigen::Index i = 0; i < odom.rows(); ++i) {
-      traj[static_cast<std::size_t>(i) + 1] =
-          traj[static_cast<std::size_t>(i)] + odom.row(i).transpose();
-    }
-  }
-  for (Eigen::Index k = 0; k < obs.rows(); ++k) {
-    const auto l = static_cast<std::size_t>(landmark_of[static_cast<std::size_t>(k)]);
-    if (seen[l]) continue;
-    seen[l] = 1;
-    if (bearing_range) {
-      const Eigen::Vector2d& r =
-          traj[static_cast<std::size_t>(pose_of[static_cast<std::size_t>(k)])];
-      lms[l] = r + obs(k, 3) * Eigen::Vector2d(std::cos(obs(k, 2)), std::sin(obs(k, 2)));
-    }
-  }
-  auto add_vertex = [&](VertexId id, const Eigen::Vector2d& x) {
-    auto v = std::make_unique<VertexXY>();
-    v->setId(id);
-    v->setEstimate(x);
-    p.graph.addVertex(std::move(v));
-  };
-  for (int i = 0; i < p.num_poses; ++i) add_vertex(CourseworkProblem::poseId(i), traj[i]);
-  for (int j = 0; j < p.num_landmarks; ++j) add_vertex(p.landmarkId(j), lms[j]);
-
-  // Edges, in the homework's row order: prior, odometry, observations.
-  auto prior = std::make_unique<EdgePriorXY>();
-  prior->setVertexIds({CourseworkProblem::poseId(0)});
-  prior->setMeasurement(Eigen::Vector2d::Zero());
-  prior->setInformation(options.prior_information);
-  p.graph.addEdge(std::move(prior));
-  for (Eigen::Index i = 0; i < odom.rows(); ++i) {
-    addEdge<EdgePointXY>(p.graph, static_cast<VertexId>(i), static_cast<VertexId>(i + 1),
-                         odom.row(i).transpose(), info_odom);
-  }
-  for (Eigen::Index k = 0; k < obs.rows(); ++k) {
-    const auto row = static_cast<std::size_t>(k);
-    const VertexId a = CourseworkProblem::poseId(pose_of[row]);
-    const VertexId b = p.landmarkId(landmark_of[row]);
-    const Eigen::Vector2d z(obs(k, 2), obs(k, 3));
-    if (bearing_range) {
-      addEdge<EdgeXYBearingRange>(p.graph, a, b, z, info_obs);
-    } else {
-      addEdge<EdgePointXY>(p.graph, a, b, z, info_obs);
-    }
-  }
-
-  std::size_t unobserved = 0;
-  for (char s : seen) unobserved += s ? 0 : 1;
+  const std::size_t unobserved = addVertices(p, r, bearing_range);
+  addEdges(p, r, options, info_odom, info_obs, bearing_range);
   if (unobserved) {
     p.notes.push_back(std::to_string(unobserved) +
                       " landmark(s) are never observed; their vertices have no edges");

@@ -25,7 +25,7 @@
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/simulator.h"
+#include "graphslam/simulation/simulator.h"
 
 #ifdef GRAPHSLAM_TEST_HAVE_CHOLMOD
 #include <cholmod.h>
@@ -46,10 +46,10 @@ struct Outcome {
 /// A simulated SE(2) pose graph (deterministic for its seed), optimised with `solver`.
 Outcome optimizeSimulated(std::uint32_t seed, const std::string& solver,
                           const SolverRegistry& registry) {
-  types_slam2d::ManhattanOptions o;
+  simulation::ManhattanOptions o;
   o.num_poses = 3000;
   o.seed = seed;
-  types_slam2d::SimulatedGraph sim = types_slam2d::simulateManhattan(o);
+  simulation::SimulatedGraph sim = simulation::simulateManhattan(o);
   Optimizer::Options options;
   options.linear_solver = solver;
   Optimizer optimizer(sim.graph, registry, options);
