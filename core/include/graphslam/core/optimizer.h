@@ -125,20 +125,52 @@ class Optimizer {
     double min_lambda_decrease = 1.0 / 3.0;
     /// kGaussNewtonFallback: undamped steps in a row that may fail to beat the best chi2
     /// before switching to LM from the best estimate. Gauss-Newton often climbs for a few
-    /// steps before it drops into a much better basin (victoria_park: 8 steps).
+    /// steps before it drops into a much better basin (docs/BENCHMARKS.md has the counts
+    /// measured on the benchmark files; the longest climb seen there is below this).
     int fallback_patience = 10;
     /// kGaussNewtonFallback: when the first (undamped) step raises chi2, the first
     /// iteration takes a dogleg step instead, from the same factorisation: along the
     /// steepest descent scaled by diag(H) to its Cauchy point, then towards the
     /// Gauss-Newton step, at a trust radius halved from the Gauss-Newton step's length
-    /// until the quadratic model predicts the decrease of chi2 within 25 % (one
-    /// evaluation of chi2 per trial; the first trial is at a quarter when chi2 along the
-    /// Gauss-Newton step, interpolated by a parabola, is lowest at a quarter of it or
-    /// less). From the initial estimate the model can be far off: m3500b goes 7743 ->
-    /// 36583 undamped, 4050 by the dogleg step (a quarter, its first trial), below its
-    /// best known 4212.0166. Files whose first step lowers chi2, and
-    /// Jacobian-form solvers, are not affected. false: keep the undamped step.
+    /// until the quadratic model predicts the decrease of chi2 within
+    /// first_step_agreement (one evaluation of chi2 per trial; the first trial is at a
+    /// quarter when chi2 along the Gauss-Newton step, interpolated by a parabola, is
+    /// lowest at a quarter of it or less). From the initial estimate the quadratic model
+    /// can be far off, and the undamped step lands far above where the dogleg path does.
+    /// Files whose first step lowers chi2, and Jacobian-form solvers, are not affected.
+    /// false: keep the undamped step.
     bool first_step_dogleg = true;
+    /// The first-step dogleg takes the first trial whose actual decrease of chi2 is within
+    /// this fraction of the model's...
+    double first_step_agreement = 0.25;
+    /// ...or the lowest chi2 seen after this many halvings of the trust region.
+    int first_step_max_halvings = 20;
+    /// Smallest LM damping, relative to the scale of the initial one (the largest diagonal
+    /// entry of H for identity damping, 1 for diagonal damping): below it the damping is
+    /// lost in rounding.
+    double min_relative_lambda = 1e-16;
+    /// Chord steps: near convergence (or where the problem is close to linear) H hardly
+    /// changes between steps, and conjugate gradients preconditioned with the last
+    /// factorisation give a step almost as good as a new factorisation for a few solves.
+    struct ChordSteps {
+      /// A step that lowered chi2 by less than this fraction is followed by a chord step.
+      double trigger = 1e-4;
+      /// So is a step whose actual decrease of chi2 was within this fraction of its
+      /// quadratic model's, when the chord step may take at least agreement_iterations
+      /// iterations (far from convergence one iteration gains much less than a
+      /// Gauss-Newton step, a few preconditioned ones as much).
+      double agreement = 0.05;
+      int agreement_iterations = 4;
+      /// The iterations stop when one lowers the model by less than this fraction of what
+      /// the first one did...
+      double relative_tolerance = 1e-4;
+      /// ...or by less than this fraction of function_tolerance times chi2...
+      double absolute_tolerance = 0.1;
+      /// ...or after this many (fewer when the factor is sparse: half the solves a
+      /// factorisation costs, nnz(L) / n / 4, at least one).
+      int max_iterations = 10;
+    };
+    ChordSteps chord_steps;
     /// LM: retries (factorisations with larger damping) before giving up.
     int max_rejections = 10;
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
