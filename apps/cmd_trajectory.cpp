@@ -143,39 +143,44 @@ void writePositionsCsv(const std::string& path, const Trajectory& t) {
   });
 }
 
-}  // namespace
-
-// ---------------------------------------------------------------------------------------
-// eval
-
-int cmdEval(const std::vector<std::string>& args) {
+/// The options of graphslam eval.
+struct EvalOptions {
   std::string metric, ref_path, est_path, relation = "trans_part", ref_format = "auto",
                                           est_format = "auto";
   std::string save, plot_dir, unit = "f";
   double t_max_diff = 0.01, t_offset = 0.0, delta = 1.0;
   int n_to_align = -1;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("metric", po::value(&metric), "ape or rpe")(
-      "ref", po::value(&ref_path), "reference trajectory (TUM, KITTI or .g2o)")(
-      "est", po::value(&est_path), "estimated trajectory (TUM, KITTI or .g2o)")(
-      "pose-relation,r", po::value(&relation)->default_value("trans_part"),
+  bool align = false, correct_scale = false, align_origin = false, all_pairs = false;
+};
+
+void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
+  desc.add_options()("help,h", "show this help")("metric", po::value(&o.metric), "ape or rpe")(
+      "ref", po::value(&o.ref_path), "reference trajectory (TUM, KITTI or .g2o)")(
+      "est", po::value(&o.est_path), "estimated trajectory (TUM, KITTI or .g2o)")(
+      "pose-relation,r", po::value(&o.relation)->default_value("trans_part"),
       "trans_part, rot_part, angle_deg, angle_rad, full, point_distance, "
       "point_distance_error_ratio")("align,a", "SE(3) Umeyama alignment")(
       "correct-scale,s", "correct the scale (Sim(3) with --align, scale only without)")(
       "align-origin", "align the first poses")("n-to-align",
-                                               po::value(&n_to_align)->default_value(-1),
+                                               po::value(&o.n_to_align)->default_value(-1),
                                                "use only the first N poses for alignment")(
-      "t-max-diff", po::value(&t_max_diff)->default_value(0.01),
+      "t-max-diff", po::value(&o.t_max_diff)->default_value(0.01),
       "maximum timestamp difference for association (s)")(
-      "t-offset", po::value(&t_offset)->default_value(0.0),
+      "t-offset", po::value(&o.t_offset)->default_value(0.0),
       "offset added to the estimate's timestamps (s)")(
-      "delta,d", po::value(&delta)->default_value(1.0), "RPE: delta between compared poses")(
-      "delta-unit,u", po::value(&unit)->default_value("f"), "RPE: f (frames), m, rad, deg")(
+      "delta,d", po::value(&o.delta)->default_value(1.0), "RPE: delta between compared poses")(
+      "delta-unit,u", po::value(&o.unit)->default_value("f"), "RPE: f (frames), m, rad, deg")(
       "all-pairs", "RPE: use all pairs with the given delta, not consecutive ones")(
-      "ref-format", po::value(&ref_format)->default_value("auto"), "auto, tum, kitti or g2o")(
-      "est-format", po::value(&est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
-      "save-results", po::value(&save), "write the result as .json or .csv")(
-      "plot", po::value(&plot_dir), "write PNG plots into this directory");
+      "ref-format", po::value(&o.ref_format)->default_value("auto"), "auto, tum, kitti or g2o")(
+      "est-format", po::value(&o.est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
+      "save-results", po::value(&o.save), "write the result as .json or .csv")(
+      "plot", po::value(&o.plot_dir), "write PNG plots into this directory");
+}
+
+/// Parses and checks the options; false after --help.
+bool parseEvalOptions(const std::vector<std::string>& args, EvalOptions& o) {
+  po::options_description desc("options");
+  declareEvalOptions(desc, o);
   po::positional_options_description pos;
   pos.add("metric", 1).add("ref", 1).add("est", 1);
   const auto vm = parse(args, desc, &pos);
@@ -184,115 +189,162 @@ int cmdEval(const std::vector<std::string>& args) {
         "usage: graphslam eval ape|rpe REF EST [options]\n"
         "Absolute / relative pose error with evo's definitions and statistics.",
         desc);
-    return kExitOk;
+    return false;
   }
-  if (metric != "ape" && metric != "rpe") throw UsageError("the metric must be ape or rpe");
-  if (ref_path.empty() || est_path.empty()) throw UsageError("eval needs REF and EST");
-  Registries reg;
-  loadRegistries(reg, {});
-  const Trajectory ref = loadTrajectory(ref_path, ref_format, reg);
-  const Trajectory est = loadTrajectory(est_path, est_format, reg);
-  const bool kitti = trajectoryFormat(ref_path, ref_format) == "kitti" ||
-                     trajectoryFormat(est_path, est_format) == "kitti";
+  o.align = vm.count("align") != 0;
+  o.correct_scale = vm.count("correct-scale") != 0;
+  o.align_origin = vm.count("align-origin") != 0;
+  o.all_pairs = vm.count("all-pairs") != 0;
+  if (o.metric != "ape" && o.metric != "rpe") throw UsageError("the metric must be ape or rpe");
+  if (o.ref_path.empty() || o.est_path.empty()) throw UsageError("eval needs REF and EST");
+  return true;
+}
 
-  AlignmentOptions align;
-  const bool a = vm.count("align") != 0, s = vm.count("correct-scale") != 0;
-  align.mode = a ? (s ? AlignmentMode::kSim3 : AlignmentMode::kSE3)
-                 : (s ? AlignmentMode::kScaleOnly : AlignmentMode::kNone);
-  align.align_origin = vm.count("align-origin") != 0;
-  align.num_poses = n_to_align;
-  AssociationOptions assoc;
-  assoc.max_diff = t_max_diff;
-  assoc.offset_2 = t_offset;
-  const PoseRelation rel = parseRelation(relation);
-
-  const auto t0 = std::chrono::steady_clock::now();
+/// The errors of a metric, the statistics and the poses compared.
+struct EvalResult {
   std::vector<double> errors;
   std::vector<std::string> labels;  // per error: timestamp of the (second) pose it belongs to
   ErrorStatistics stats;
   Trajectory ref_used, est_used;
-  auto common = [&](auto& o) {
-    o.pose_relation = rel;
-    o.associate = !kitti;  // KITTI files have no timestamps
-    o.association = assoc;
-    o.alignment = align;
+  double seconds = 0.0;
+};
+
+AlignmentOptions alignmentOf(const EvalOptions& o) {
+  AlignmentOptions align;
+  const bool a = o.align, s = o.correct_scale;
+  align.mode = a ? (s ? AlignmentMode::kSim3 : AlignmentMode::kSE3)
+                 : (s ? AlignmentMode::kScaleOnly : AlignmentMode::kNone);
+  align.align_origin = o.align_origin;
+  align.num_poses = o.n_to_align;
+  return align;
+}
+
+/// Computes APE or RPE; `associate`: by timestamps (not for KITTI files, which have none).
+EvalResult evaluate(const EvalOptions& o, const Trajectory& ref, const Trajectory& est,
+                    const AlignmentOptions& align, PoseRelation rel, bool associate) {
+  AssociationOptions assoc;
+  assoc.max_diff = o.t_max_diff;
+  assoc.offset_2 = o.t_offset;
+  const auto t0 = std::chrono::steady_clock::now();
+  EvalResult e;
+  auto common = [&](auto& opt) {
+    opt.pose_relation = rel;
+    opt.associate = associate;
+    opt.association = assoc;
+    opt.alignment = align;
   };
   auto take = [&](const auto& r) {
-    errors = r.errors;
-    stats = r.statistics;
-    ref_used = r.reference;
-    est_used = r.estimate;
+    e.errors = r.errors;
+    e.stats = r.statistics;
+    e.ref_used = r.reference;
+    e.est_used = r.estimate;
   };
-  if (metric == "ape") {
-    ApeOptions o;
-    common(o);
-    const ApeResult r = computeApe(ref, est, o);
+  if (o.metric == "ape") {
+    ApeOptions opt;
+    common(opt);
+    const ApeResult r = computeApe(ref, est, opt);
     take(r);
     for (std::size_t i = 0; i < r.reference.size(); ++i)
-      labels.push_back(formatDouble(r.reference.timestamp(i)));
+      e.labels.push_back(formatDouble(r.reference.timestamp(i)));
   } else {
-    RpeOptions o;
-    common(o);
-    o.delta = delta;
-    o.delta_unit = parseUnit(unit);
-    o.all_pairs = vm.count("all-pairs") != 0;
-    const RpeResult r = computeRpe(ref, est, o);
+    RpeOptions opt;
+    common(opt);
+    opt.delta = o.delta;
+    opt.delta_unit = parseUnit(o.unit);
+    opt.all_pairs = o.all_pairs;
+    const RpeResult r = computeRpe(ref, est, opt);
     take(r);
-    for (const auto& [i, j] : r.id_pairs) labels.push_back(formatDouble(r.reference.timestamp(j)));
+    for (const auto& [i, j] : r.id_pairs)
+      e.labels.push_back(formatDouble(r.reference.timestamp(j)));
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return e;
+}
 
+std::string alignmentTitle(const AlignmentOptions& align) {
   std::string mode = "(not aligned)";
   if (align.mode == AlignmentMode::kSE3) mode = "(with SE(3) Umeyama alignment)";
   if (align.mode == AlignmentMode::kSim3) mode = "(with Sim(3) Umeyama alignment)";
   if (align.mode == AlignmentMode::kScaleOnly) mode = "(scale corrected)";
   if (align.align_origin) mode += " (with origin alignment)";
-  std::string title =
-      (metric == "ape" ? "APE" : "RPE") + std::string(" w.r.t. ") + relationTitle(rel);
-  if (metric == "rpe") title += ", delta " + formatDouble(delta) + " " + unit;
-  std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
-              statsTable(stats).c_str(), ref_used.size(), errors.size(), seconds);
+  return mode;
+}
 
-  if (!save.empty()) {
-    if (endsWith(save, ".json")) {
-      writeFileAtomically(save, [&](std::ostream& out) {
-        out << "{\n  \"metric\": \"" << metric << "\",\n  \"title\": \"" << title
-            << "\",\n  \"alignment\": \"" << mode
-            << "\",\n  \"statistics\": {\"max\": " << jsonNumber(stats.max)
-            << ", \"mean\": " << jsonNumber(stats.mean)
-            << ", \"median\": " << jsonNumber(stats.median)
-            << ", \"min\": " << jsonNumber(stats.min) << ", \"rmse\": " << jsonNumber(stats.rmse)
-            << ", \"sse\": " << jsonNumber(stats.sse) << ", \"std\": " << jsonNumber(stats.std_dev)
-            << "},\n  \"timestamps\": [";
-        for (std::size_t i = 0; i < labels.size(); ++i) out << (i ? ", " : "") << labels[i];
-        out << "],\n  \"errors\": [";
-        for (std::size_t i = 0; i < errors.size(); ++i)
-          out << (i ? ", " : "") << jsonNumber(errors[i]);
-        out << "]\n}\n";
-      });
-    } else if (endsWith(save, ".csv")) {
-      writeFileAtomically(save, [&](std::ostream& out) {
-        out << "t,error\n";
-        for (std::size_t i = 0; i < errors.size(); ++i)
-          out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
-      });
-    } else {
-      throw UsageError("--save-results must end in .json or .csv");
-    }
+void writeErrorsCsv(const std::string& path, const EvalResult& e) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "t,error\n";
+    for (std::size_t i = 0; i < e.errors.size(); ++i)
+      out << e.labels[i] << ',' << formatDouble(e.errors[i]) << '\n';
+  });
+}
+
+void writeErrorsJson(const std::string& path, const std::string& metric, const std::string& title,
+                     const std::string& mode, const EvalResult& e) {
+  const ErrorStatistics& stats = e.stats;
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "{\n  \"metric\": \"" << metric << "\",\n  \"title\": \"" << title
+        << "\",\n  \"alignment\": \"" << mode
+        << "\",\n  \"statistics\": {\"max\": " << jsonNumber(stats.max)
+        << ", \"mean\": " << jsonNumber(stats.mean) << ", \"median\": " << jsonNumber(stats.median)
+        << ", \"min\": " << jsonNumber(stats.min) << ", \"rmse\": " << jsonNumber(stats.rmse)
+        << ", \"sse\": " << jsonNumber(stats.sse) << ", \"std\": " << jsonNumber(stats.std_dev)
+        << "},\n  \"timestamps\": [";
+    for (std::size_t i = 0; i < e.labels.size(); ++i) out << (i ? ", " : "") << e.labels[i];
+    out << "],\n  \"errors\": [";
+    for (std::size_t i = 0; i < e.errors.size(); ++i)
+      out << (i ? ", " : "") << jsonNumber(e.errors[i]);
+    out << "]\n}\n";
+  });
+}
+
+/// --save-results: JSON or CSV by the file's extension.
+void saveResults(const std::string& save, const std::string& metric, const std::string& title,
+                 const std::string& mode, const EvalResult& e) {
+  if (endsWith(save, ".json")) {
+    writeErrorsJson(save, metric, title, mode, e);
+  } else if (endsWith(save, ".csv")) {
+    writeErrorsCsv(save, e);
+  } else {
+    throw UsageError("--save-results must end in .json or .csv");
   }
-  if (!plot_dir.empty()) {
-    writePositionsCsv(plot_dir + "/" + metric + "_reference.csv", ref_used);
-    writePositionsCsv(plot_dir + "/" + metric + "_estimate.csv", est_used);
-    writeFileAtomically(plot_dir + "/" + metric + "_errors.csv", [&](std::ostream& out) {
-      out << "t,error\n";
-      for (std::size_t i = 0; i < errors.size(); ++i)
-        out << labels[i] << ',' << formatDouble(errors[i]) << '\n';
-    });
-    runPlotScript("plot_eval.py", {plot_dir, metric, title + " " + mode});
-    std::printf("plots: %s/%s_trajectories.png, %s_error.png, %s_error_map.png\n", plot_dir.c_str(),
-                metric.c_str(), metric.c_str(), metric.c_str());
-  }
+}
+
+void plotEval(const std::string& plot_dir, const std::string& metric, const std::string& title,
+              const EvalResult& e) {
+  writePositionsCsv(plot_dir + "/" + metric + "_reference.csv", e.ref_used);
+  writePositionsCsv(plot_dir + "/" + metric + "_estimate.csv", e.est_used);
+  writeErrorsCsv(plot_dir + "/" + metric + "_errors.csv", e);
+  runPlotScript("plot_eval.py", {plot_dir, metric, title});
+  std::printf("plots: %s/%s_trajectories.png, %s_error.png, %s_error_map.png\n", plot_dir.c_str(),
+              metric.c_str(), metric.c_str(), metric.c_str());
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// eval
+
+int cmdEval(const std::vector<std::string>& args) {
+  EvalOptions o;
+  if (!parseEvalOptions(args, o)) return kExitOk;
+  Registries reg;
+  loadRegistries(reg, {});
+  const Trajectory ref = loadTrajectory(o.ref_path, o.ref_format, reg);
+  const Trajectory est = loadTrajectory(o.est_path, o.est_format, reg);
+  const bool kitti = trajectoryFormat(o.ref_path, o.ref_format) == "kitti" ||
+                     trajectoryFormat(o.est_path, o.est_format) == "kitti";
+  const AlignmentOptions align = alignmentOf(o);
+  const PoseRelation rel = parseRelation(o.relation);
+  const EvalResult e = evaluate(o, ref, est, align, rel, !kitti);
+
+  const std::string mode = alignmentTitle(align);
+  std::string title =
+      (o.metric == "ape" ? "APE" : "RPE") + std::string(" w.r.t. ") + relationTitle(rel);
+  if (o.metric == "rpe") title += ", delta " + formatDouble(o.delta) + " " + o.unit;
+  std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
+              statsTable(e.stats).c_str(), e.ref_used.size(), e.errors.size(), e.seconds);
+  if (!o.save.empty()) saveResults(o.save, o.metric, title, mode, e);
+  if (!o.plot_dir.empty()) plotEval(o.plot_dir, o.metric, title + " " + mode, e);
   return kExitOk;
 }
 

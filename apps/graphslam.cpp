@@ -119,31 +119,36 @@ int writeMarginals(Graph& graph, const TypeRegistry& types, const std::string& p
   std::exit(code);
 }
 
-int cmdOptimize(const std::vector<std::string>& args) {
+/// The options of graphslam optimize.
+struct OptimizeOptions {
   std::string input, output, algorithm, solver, stats_file, plot, npz_model;
   int iterations = 100;
   std::vector<std::string> plugins;
   std::string damping, first_step, init, marginals_file, marginals_tag;
+  bool quiet = false;
   Optimizer::Options options;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
+};
+
+void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
+  Optimizer::Options& options = o.options;
+  desc.add_options()("help,h", "show this help")("input", po::value(&o.input),
                                                  "input .g2o file or CMU 16-833 homework .npz")(
-      "output,o", po::value(&output), "write the optimised graph here (atomically)")(
-      "iterations,i", po::value(&iterations)->default_value(100), "maximum iterations")(
-      "algorithm", po::value(&algorithm)->default_value("auto"),
+      "output,o", po::value(&o.output), "write the optimised graph here (atomically)")(
+      "iterations,i", po::value(&o.iterations)->default_value(100), "maximum iterations")(
+      "algorithm", po::value(&o.algorithm)->default_value("auto"),
       "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm "
-      "(Levenberg-Marquardt)")("solver", po::value(&solver)->default_value("auto"),
+      "(Levenberg-Marquardt)")("solver", po::value(&o.solver)->default_value("auto"),
                                "linear solver (see graphslam list-solvers)")(
-      "plugin", po::value(&plugins)->composing(),
+      "plugin", po::value(&o.plugins)->composing(),
       "load types/solvers from this shared library (repeatable)")(
-      "stats", po::value(&stats_file), "write per-iteration statistics as CSV")(
-      "init", po::value(&init)->default_value("auto"),
+      "stats", po::value(&o.stats_file), "write per-iteration statistics as CSV")(
+      "init", po::value(&o.init)->default_value("auto"),
       "initial guess: none (the file's estimates), global (SE(2) orientations, then positions, "
       "by linear least squares; only SE(2) graphs) or auto (none for .npz files, which carry the "
       "homework's initial guess; global otherwise)")(
-      "npz-model", po::value(&npz_model)->default_value("auto"),
+      "npz-model", po::value(&o.npz_model)->default_value("auto"),
       "observations of a .npz file: auto (decided from the file), linear or bearing-range")(
-      "plot", po::value(&plot),
+      "plot", po::value(&o.plot),
       "draw the initial and final positions (and the ground truth) into this PNG")(
       "quiet,q", "print only the summary")(
       "threads", po::value(&options.threads)->default_value(options.threads),
@@ -160,58 +165,71 @@ int cmdOptimize(const std::vector<std::string>& args) {
       "lambda-decrease",
       po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
-      "first-step", po::value(&first_step)->default_value("dogleg"),
+      "first-step", po::value(&o.first_step)->default_value("dogleg"),
       "default algorithm, when the first Gauss-Newton step raises chi2: dogleg (a dogleg "
       "step in a trust region shrunk until the model agrees, same factorisation) or gn "
       "(keep the Gauss-Newton step)")(
-      "damping", po::value(&damping)->default_value("identity"),
+      "damping", po::value(&o.damping)->default_value("identity"),
       "LM damping: identity (lambda I) or diagonal (lambda diag(H))")(
-      "marginals", po::value(&marginals_file),
+      "marginals", po::value(&o.marginals_file),
       "write marginal covariances (upper triangle per vertex) here, atomically")(
-      "marginals-tag", po::value(&marginals_tag),
+      "marginals-tag", po::value(&o.marginals_tag),
       "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)");
+}
+
+/// Parses and checks the options and fills the optimizer's; false after --help.
+bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions& o) {
+  po::options_description desc("options");
+  declareOptimizeOptions(desc, o);
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(kOptimizeUsage, desc);
-    return kExitOk;
+    return false;
   }
-  if (iterations < 1) throw UsageError("--iterations must be at least 1");
+  Optimizer::Options& options = o.options;
+  if (o.iterations < 1) throw UsageError("--iterations must be at least 1");
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");
   }
   options.damping = parseChoice<Optimizer::Options::Damping>(
-      "damping", damping,
+      "damping", o.damping,
       {{"identity", Optimizer::Options::Damping::kIdentity},
        {"diagonal", Optimizer::Options::Damping::kDiagonal}});
   options.first_step_dogleg =
-      parseChoice<bool>("first-step", first_step, {{"dogleg", true}, {"gn", false}});
-  options.algorithm = parseAlgorithm(algorithm);
-  options.max_iterations = iterations;
-  options.linear_solver = solver;
+      parseChoice<bool>("first-step", o.first_step, {{"dogleg", true}, {"gn", false}});
+  options.algorithm = parseAlgorithm(o.algorithm);
+  options.max_iterations = o.iterations;
+  options.linear_solver = o.solver;
+  o.quiet = vm.count("quiet") != 0;
+  return true;
+}
 
-  Registries reg;
-  loadRegistries(reg, plugins);
-  if (!reg.solvers.contains(solver)) {
-    throw UsageError("unknown solver '" + solver +
+/// Checks --solver and --marginals-tag against the registries.
+void checkRegistered(const OptimizeOptions& o, const Registries& reg) {
+  if (!reg.solvers.contains(o.solver)) {
+    throw UsageError("unknown solver '" + o.solver +
                      "' (graphslam list-solvers shows the known ones)");
   }
-  if (!marginals_tag.empty()) {
-    const auto* entry = reg.types.find(marginals_tag);
-    if (marginals_file.empty()) throw UsageError("--marginals-tag needs --marginals FILE");
+  if (!o.marginals_tag.empty()) {
+    const auto* entry = reg.types.find(o.marginals_tag);
+    if (o.marginals_file.empty()) throw UsageError("--marginals-tag needs --marginals FILE");
     if (!entry || entry->kind != TypeRegistry::Kind::kVertex) {
-      throw UsageError("--marginals-tag: '" + marginals_tag +
+      throw UsageError("--marginals-tag: '" + o.marginals_tag +
                        "' is not a vertex tag (graphslam list-types shows them)");
     }
   }
+}
 
+/// The input file, or the built-in default graph without one.
+LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
   InputOptions input_options;
-  input_options.npz_model = parseNpzModel(npz_model);
-  input_options.threads = options.threads;
-  checkInitChoice(init);
+  input_options.npz_model = parseNpzModel(o.npz_model);
+  input_options.threads = o.options.threads;
+  checkInitChoice(o.init);
   LoadedInput in;
-  if (input.empty()) {
+  if (o.input.empty()) {
     simulation::ManhattanOptions sim;
     std::cout
         << "no input given: optimising the built-in default graph (simulated Manhattan world, "
@@ -219,20 +237,21 @@ int cmdOptimize(const std::vector<std::string>& args) {
     auto simulated = simulation::simulateManhattan(sim);
     in.graph = std::move(simulated.graph);
   } else {
-    in = loadInput(input, reg.types, input_options);
-    std::cout << input << ": " << in.description << "\n";
+    in = loadInput(o.input, reg.types, input_options);
+    std::cout << o.input << ": " << in.description << "\n";
     for (const auto& note : in.notes) std::cout << "  " << note << "\n";
   }
-  Graph& graph = in.graph;
-  std::cout << "graph: " << graph.numVertices() << " vertices, " << graph.numEdges() << " edges\n";
-  applyInitialGuess(in, graph, init, reg.solvers);
-  // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
-  const auto initial_positions = plot.empty() ? decltype(positions(graph)){} : positions(graph);
-  const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
+  std::cout << "graph: " << in.graph.numVertices() << " vertices, " << in.graph.numEdges()
+            << " edges\n";
+  return in;
+}
 
-  const bool quiet = vm.count("quiet") != 0;
-  std::vector<std::string> csv;
-  options.callback = [&](const IterationStats& s) {
+/// Optimises `graph`, printing a line per iteration (unless quiet) and the summary, and
+/// collecting the lines of --stats in `csv`.
+Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOptions& o,
+                     std::vector<std::string>& csv) {
+  const bool quiet = o.quiet;
+  o.options.callback = [&csv, quiet](const IterationStats& s) {
     if (!quiet) {
       std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
                   s.chi2, s.lambda, s.step_norm, s.time.total(),
@@ -249,41 +268,65 @@ int cmdOptimize(const std::vector<std::string>& args) {
     std::fprintf(level >= LogLevel::kWarning ? stderr : stdout, "%s: %s\n", toString(level),
                  msg.c_str());
   });
-  Optimizer optimizer(graph, reg.solvers, options);
+  Optimizer optimizer(graph, solvers, o.options);
   const Summary summary = optimizer.optimize();
   std::cout << summary.report() << "\n";
+  return summary;
+}
+
+void writeStats(const std::string& path, const std::vector<std::string>& csv) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
+           "time_factorize,time_solve,elapsed,cg_iterations,dogleg_halvings\n";
+    for (const auto& line : csv) out << line << "\n";
+  });
+}
+
+void plotOptimized(const OptimizeOptions& o, const Summary& summary, const Graph& graph,
+                   const std::map<VertexId, Eigen::Vector2d>& initial_positions,
+                   const homework::PointGroundTruth& truth) {
+  std::ostringstream title;
+  title << (o.input.empty() ? std::string("built-in default graph") : o.input) << ": chi2 "
+        << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
+        << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
+  plotPoints(o.plot, title.str(), graph, initial_positions, truth);
+}
+
+int cmdOptimize(const std::vector<std::string>& args) {
+  OptimizeOptions o;
+  if (!parseOptimizeOptions(args, o)) return kExitOk;
+  Registries reg;
+  loadRegistries(reg, o.plugins);
+  checkRegistered(o, reg);
+  LoadedInput in = loadOptimizeInput(o, reg);
+  Graph& graph = in.graph;
+  applyInitialGuess(in, graph, o.init, reg.solvers);
+  // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
+  const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
+  const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
+
+  std::vector<std::string> csv;
+  const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
   if (!in.ground_truth.empty()) {
     const auto final_errors = homework::positionErrors(graph, in.ground_truth);
     std::printf("position error vs ground truth (m), initial -> final:\n");
     printErrors("poses", initial_errors.poses, final_errors.poses);
     printErrors("landmarks", initial_errors.landmarks, final_errors.landmarks);
   }
-  if (!stats_file.empty()) {
-    writeFileAtomically(stats_file, [&](std::ostream& out) {
-      out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
-             "time_factorize,time_solve,elapsed,cg_iterations,dogleg_halvings\n";
-      for (const auto& line : csv) out << line << "\n";
-    });
-  }
+  if (!o.stats_file.empty()) writeStats(o.stats_file, csv);
   if (!summary.succeeded() && summary.status != TerminationStatus::kNoProgress) {
     std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message
               << "\n";
-    if (!output.empty()) std::cerr << "not writing " << output << "\n";
+    if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
     exitWithoutFreeing(kExitFailed);
   }
-  if (!output.empty()) {
-    io::saveG2o(output, graph, reg.types);
-    std::cout << "wrote " << output << "\n";
+  if (!o.output.empty()) {
+    io::saveG2o(o.output, graph, reg.types);
+    std::cout << "wrote " << o.output << "\n";
   }
-  if (!plot.empty()) {
-    std::ostringstream title;
-    title << (input.empty() ? std::string("built-in default graph") : input) << ": chi2 "
-          << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
-          << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
-    plotPoints(plot, title.str(), graph, initial_positions, in.ground_truth);
-  }
-  if (!marginals_file.empty())
-    exitWithoutFreeing(writeMarginals(graph, reg.types, marginals_file, marginals_tag));
+  if (!o.plot.empty()) plotOptimized(o, summary, graph, initial_positions, in.ground_truth);
+  if (!o.marginals_file.empty())
+    exitWithoutFreeing(writeMarginals(graph, reg.types, o.marginals_file, o.marginals_tag));
   exitWithoutFreeing(kExitOk);
 }
 
