@@ -2,12 +2,15 @@
 # The CMU 16-833 HW3 files through the tool (SEEDS.md section 1): the homework's 10
 # Gauss-Newton iterations on 2d_nonlinear.npz (chi2 as SciPy computes it, errors against
 # the ground truth, the plot), the .g2o round trip of the point-robot types, and the linear
-# files. Exit code 77 (skip) when the data folder is absent.
+# files. Skipped when the data folder is absent: the
+# test matches the printed "GRAPHSLAM_SKIP:" (SKIP_REGULAR_EXPRESSION; CMake 3.25 has no
+# cmake_language(EXIT)).
 #   cmake -DTOOL=... -DDATA=... -DWORK=... -P coursework.cmake
 set(seeds "${DATA}/seeds")
 if(NOT EXISTS "${seeds}/2d_nonlinear.npz")
-  message("homework data not found in ${seeds} (set GRAPHSLAM_DATA): skipping")
-  cmake_language(EXIT 77)
+  message("homework data not found in ${seeds} (set GRAPHSLAM_DATA)")
+  message("GRAPHSLAM_SKIP: no data folder")
+  return()
 endif()
 include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 step("observation model bearing-range.*initialisation: none.*chi2: +8623.3224[0-9]* -> 1555.1896[0-9]*\niterations: +10.*poses +100 +rmse 0.057883 .* -> +rmse 0.015333 .*landmarks +15 +rmse 0.191390 .* -> +rmse 0.019019 .*wrote nl.g2o.*wrote nl.png"

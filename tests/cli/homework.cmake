@@ -1,11 +1,14 @@
 # SPDX-License-Identifier: MIT
 # The SE(2) pose-graph homework end to end with graphslam commands only; checks the
-# numbers of SEEDS.md section 3. Exit code 77 (skip) when the data folder is absent.
+# numbers of SEEDS.md section 3. Skipped when the data folder is absent: the
+# test matches the printed "GRAPHSLAM_SKIP:" (SKIP_REGULAR_EXPRESSION; CMake 3.25 has no
+# cmake_language(EXIT)).
 #   cmake -DTOOL=... -DDATA=... -DWORK=... -P homework.cmake
 set(hw "${DATA}/seeds/shanghaitech_slam2024_hw1")
 if(NOT EXISTS "${hw}/hw1_data.txt")
-  message("homework data not found in ${hw} (set GRAPHSLAM_DATA): skipping")
-  cmake_language(EXIT 77)
+  message("homework data not found in ${hw} (set GRAPHSLAM_DATA)")
+  message("GRAPHSLAM_SKIP: no data folder")
+  return()
 endif()
 include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 step("last \\(pose 12\\): x -0.056860  y 0.057527  theta -0.141896 rad \\(-8.13 deg\\)"
