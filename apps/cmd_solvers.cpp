@@ -10,7 +10,7 @@
 
 #include "cli_common.h"
 #include "graphslam/core/error.h"
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"

@@ -10,7 +10,7 @@
 
 #include "cli_common.h"
 #include "graphslam/core/error.h"
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/eval/trajectory.h"
 #include "graphslam/eval/trajectory_metrics.h"

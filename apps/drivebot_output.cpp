@@ -9,7 +9,7 @@
 #include <sstream>
 #include <vector>
 
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/graph_checks.h"
 #include "graphslam/core/io_g2o.h"
 

@@ -15,7 +15,7 @@
 #include "builtins.h"
 #include "cli_common.h"
 #include "graphslam/core/error.h"
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/marginals.h"

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "graphslam/core/error.h"
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 
 namespace graphslam::apps {

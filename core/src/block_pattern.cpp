@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "graphslam/core/block_pattern.h"
+#include "graphslam/core/internal/block_pattern.h"
 
 #include <algorithm>
 

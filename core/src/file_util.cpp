@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "graphslam/core/file_util.h"
+#include "graphslam/core/internal/file_util.h"
 
 #include <unistd.h>
 

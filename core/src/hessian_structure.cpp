@@ -5,7 +5,7 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "graphslam/core/block_pattern.h"
+#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/core/linear_system.h"
 
 namespace graphslam::detail {

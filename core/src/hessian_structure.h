@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "graphslam/core/block_pattern.h"
+#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/core/edge.h"
 #include "graphslam/core/graph.h"
 #include "graphslam/core/large_array.h"

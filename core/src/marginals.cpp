@@ -235,6 +235,97 @@ struct MarginalCovariance::Impl {
     }
     return true;
   }
+
+  /// Builds the structure (when stale), linearises and factorises H at the current
+  /// estimates. False, with the summary's failure set, when a vertex group has no anchor
+  /// or H is not positive definite.
+  bool factorizeAt(Graph& graph, MarginalSummary& summary) {
+    const auto t0 = Clock::now();
+    if (built_for != &graph || structure.stale(graph)) rebuild(graph);
+    const int n = structure.dimension();
+    summary.system_dimension = n;
+    for (const auto& group : structure.unanchoredGroups()) {
+      summary.bad_vertices.insert(summary.bad_vertices.end(), group.begin(), group.end());
+    }
+    if (!summary.bad_vertices.empty()) {
+      summary.status = MarginalStatus::kSingular;
+      summary.message =
+          "vertices with no anchor (no fixed vertex, no unary edge) have no bounded covariance: " +
+          idList(summary.bad_vertices);
+      return false;
+    }
+    if (n == 0) return true;
+    for (Edge* e : structure.activeEdges()) e->linearizeOplus();
+    structure.assemble(values, gradient);
+    const auto t1 = Clock::now();
+    summary.time_linearize = seconds(t0, t1);
+    const int bad = factorize();
+    summary.time_factorize = seconds(t1, Clock::now());
+    summary.factor_nonzeros =
+        static_cast<std::size_t>(factor.matrixL().nestedExpression().nonZeros());
+    if (bad < 0) return true;
+    const VertexId id = structure.vertexOfColumn(bad);
+    summary.status = MarginalStatus::kSingular;
+    summary.bad_vertices.push_back(id);
+    summary.message = "H is not positive definite at vertex " + std::to_string(id) +
+                      ": it (or a group of vertices eliminated before it) is not determined "
+                      "by its measurements";
+    return false;
+  }
+
+  /// The diagonal blocks of `ids` (zero for fixed vertices).
+  void diagonalBlocks(const std::vector<VertexId>& ids, const std::map<VertexId, int>& dims,
+                      std::map<VertexId, Eigen::MatrixXd>& blocks) const {
+    for (VertexId id : ids) {
+      const int d = dims.at(id);
+      Eigen::MatrixXd block = Eigen::MatrixXd::Zero(d, d);
+      if (column_of.count(id) != 0) {
+        const int c = column_of.at(id);
+        const bool in_pattern = blockFromInverse(c, d, c, d, block);
+        if (!in_pattern) throw Error("marginals: internal error, diagonal block outside L");
+      }
+      blocks[id] = std::move(block);
+    }
+  }
+
+  /// Cross blocks: from the selected inverse when on L's pattern, else by solving
+  /// L D L^T x = e_c for each column c of b (grouped by b). Returns the solves made.
+  int crossBlocks(const std::vector<std::pair<VertexId, VertexId>>& cross_pairs,
+                  const std::map<VertexId, int>& dims,
+                  std::map<std::pair<VertexId, VertexId>, Eigen::MatrixXd>& cross) const {
+    auto missing = [&](VertexId id) { return column_of.count(id) == 0; };
+    std::map<VertexId, std::vector<std::pair<VertexId, VertexId>>> solve_for;
+    for (const auto& [a, b] : cross_pairs) {
+      Eigen::MatrixXd block = Eigen::MatrixXd::Zero(dims.at(a), dims.at(b));
+      if (!missing(a) && !missing(b) &&
+          !blockFromInverse(column_of.at(a), dims.at(a), column_of.at(b), dims.at(b), block)) {
+        solve_for[b].emplace_back(a, b);
+        continue;
+      }
+      cross[{a, b}] = std::move(block);
+    }
+    const int n = structure.dimension();
+    Eigen::VectorXd rhs(n);
+    Eigen::VectorXd x(n);
+    int solves = 0;
+    for (const auto& [b, pairs] : solve_for) {
+      const int db = dims.at(b);
+      const int cb = column_of.at(b);
+      for (const auto& pair : pairs) cross[pair] = Eigen::MatrixXd::Zero(dims.at(pair.first), db);
+      for (int c = 0; c < db; ++c) {
+        rhs.setZero();
+        rhs[p.indices()[cb + c]] = 1.0;
+        x = factor.solve(rhs);
+        ++solves;
+        for (const auto& pair : pairs) {
+          const int ca = column_of.at(pair.first);
+          Eigen::MatrixXd& block = cross[pair];
+          for (int r = 0; r < block.rows(); ++r) block(r, c) = x[p.indices()[ca + r]];
+        }
+      }
+    }
+    return solves;
+  }
 };
 
 MarginalCovariance::MarginalCovariance() : MarginalCovariance(Options{}) {}
@@ -286,95 +377,21 @@ MarginalSummary MarginalCovariance::compute(
     return summary;
   }
 
-  auto t0 = Clock::now();
-  if (im.built_for != &graph || im.structure.stale(graph)) im.rebuild(graph);
-  const int n = im.structure.dimension();
-  summary.system_dimension = n;
-  for (const auto& group : im.structure.unanchoredGroups()) {
-    summary.bad_vertices.insert(summary.bad_vertices.end(), group.begin(), group.end());
-  }
-  if (!summary.bad_vertices.empty()) {
-    summary.status = MarginalStatus::kSingular;
-    summary.message =
-        "vertices with no anchor (no fixed vertex, no unary edge) have no bounded covariance: " +
-        idList(summary.bad_vertices);
+  if (!im.factorizeAt(graph, summary)) {
     summary.total_time = seconds(t_start, Clock::now());
     return summary;
   }
 
-  if (n > 0) {
-    for (Edge* e : im.structure.activeEdges()) e->linearizeOplus();
-    im.structure.assemble(im.values, im.gradient);
-    auto t1 = Clock::now();
-    summary.time_linearize = seconds(t0, t1);
-    const int bad = im.factorize();
-    summary.time_factorize = seconds(t1, Clock::now());
-    summary.factor_nonzeros =
-        static_cast<std::size_t>(im.factor.matrixL().nestedExpression().nonZeros());
-    if (bad >= 0) {
-      const VertexId id = im.structure.vertexOfColumn(bad);
-      summary.status = MarginalStatus::kSingular;
-      summary.bad_vertices.push_back(id);
-      summary.message = "H is not positive definite at vertex " + std::to_string(id) +
-                        ": it (or a group of vertices eliminated before it) is not determined "
-                        "by its measurements";
-      summary.total_time = seconds(t_start, Clock::now());
-      return summary;
-    }
-  }
-
-  auto t2 = Clock::now();
+  const auto t2 = Clock::now();
   // Columns of the recursion: requested vertices and both sides of every cross pair.
-  std::vector<VertexId> involved;
-  for (const auto& [id, dim] : dims) involved.push_back(id);
-  if (n > 0) {
+  if (im.structure.dimension() > 0) {
+    std::vector<VertexId> involved;
+    for (const auto& [id, dim] : dims) involved.push_back(id);
     im.markNeeded(involved, dims);
     summary.inverse_entries = im.selectedInverse();
   }
-
-  auto zero_or_missing = [&](VertexId id) { return im.column_of.count(id) == 0; };
-  for (VertexId id : vertex_ids) {
-    const int d = dims.at(id);
-    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(d, d);
-    if (!zero_or_missing(id)) {
-      const int c = im.column_of.at(id);
-      const bool in_pattern = im.blockFromInverse(c, d, c, d, block);
-      if (!in_pattern) throw Error("marginals: internal error, diagonal block outside L");
-    }
-    blocks_[id] = std::move(block);
-  }
-
-  // Cross blocks: from the selected inverse when on L's pattern, else by solving
-  // L D L^T x = e_c for each column c of b (grouped by b).
-  std::map<VertexId, std::vector<std::pair<VertexId, VertexId>>> solve_for;
-  for (const auto& [a, b] : cross_pairs) {
-    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(dims.at(a), dims.at(b));
-    if (!zero_or_missing(a) && !zero_or_missing(b) &&
-        !im.blockFromInverse(im.column_of.at(a), dims.at(a), im.column_of.at(b), dims.at(b),
-                             block)) {
-      solve_for[b].emplace_back(a, b);
-      continue;
-    }
-    cross_[{a, b}] = std::move(block);
-  }
-  Eigen::VectorXd rhs(n);
-  Eigen::VectorXd x(n);
-  for (const auto& [b, pairs] : solve_for) {
-    const int db = dims.at(b);
-    const int cb = im.column_of.at(b);
-    for (const auto& pair : pairs) cross_[pair] = Eigen::MatrixXd::Zero(dims.at(pair.first), db);
-    for (int c = 0; c < db; ++c) {
-      rhs.setZero();
-      rhs[im.p.indices()[cb + c]] = 1.0;
-      x = im.factor.solve(rhs);
-      ++summary.back_substitutions;
-      for (const auto& pair : pairs) {
-        const int ca = im.column_of.at(pair.first);
-        Eigen::MatrixXd& block = cross_[pair];
-        for (int r = 0; r < block.rows(); ++r) block(r, c) = x[im.p.indices()[ca + r]];
-      }
-    }
-  }
+  im.diagonalBlocks(vertex_ids, dims, blocks_);
+  summary.back_substitutions = im.crossBlocks(cross_pairs, dims, cross_);
   summary.time_inverse = seconds(t2, Clock::now());
   summary.total_time = seconds(t_start, Clock::now());
   return summary;

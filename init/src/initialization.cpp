@@ -11,7 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "graphslam/core/block_pattern.h"
+#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
