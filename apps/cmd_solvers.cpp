@@ -304,13 +304,9 @@ void printTable(const std::vector<Row>& rows, const Reference& reference, int re
 /// Applies the reference step to the graph and prints the position errors against the
 /// ground truth before and after it.
 void applyReferenceStep(Graph& graph, const homework::PointGroundTruth& truth,
-                        const std::vector<double>& reference) {
+                        const StudySystem& sys, const std::vector<double>& reference) {
   const auto before = homework::positionErrors(graph, truth);
-  std::vector<Vertex*> free_vertices;
-  for (const auto& [id, vp] : graph.vertices()) {
-    if (vp->hessianIndex() >= 0) free_vertices.push_back(vp.get());
-  }
-  for (Vertex* v : free_vertices) v->oplus(reference.data() + v->hessianIndex());
+  for (const auto& [v, column] : sys.columns) v->oplus(reference.data() + column);
   const auto after = homework::positionErrors(graph, truth);
   std::printf(
       "position error vs ground truth (m) of the estimate, before -> after the reference "
@@ -419,7 +415,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
 
   const bool with_truth = !reference.x.empty() && !in.ground_truth.empty();
   const auto initial_positions = positions(graph);
-  if (with_truth) applyReferenceStep(graph, in.ground_truth, reference.x);
+  if (with_truth) applyReferenceStep(graph, in.ground_truth, sys, reference.x);
   if (!o.csv.empty()) writeCsv(o.csv, rows, sys);
   if (!o.plot_dir.empty()) {
     const std::string stem = std::filesystem::path(o.input).stem().string();

@@ -47,6 +47,8 @@ StudySystem linearSystemOf(Graph& graph) {
   ls.assembleJacobian();
   s.j_values = ls.jacobianValues();
   s.residual = ls.residual();
+  for (std::size_t b = 0; b < ls.activeVertices().size(); ++b)
+    s.columns.emplace_back(ls.activeVertices()[b], ls.blockStarts()[b]);
   return s;
 }
 

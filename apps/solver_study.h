@@ -24,6 +24,8 @@ struct StudySystem {
   std::vector<int> j_ptr, j_idx;
   std::vector<double> j_values, residual;
   int num_blocks = 0;
+  /// The active vertices and their first columns.
+  std::vector<std::pair<Vertex*, int>> columns;
 
   SparseStructure hessian() const {
     SparseStructure s;

@@ -66,7 +66,7 @@ void HessianStructure::assignColumns(Graph& graph, const std::vector<int>* block
   active_vertices_.reserve(graph.numVertices());
   for (const auto& [id, v] : graph.vertices()) {
     fixed_snapshot_.push_back(static_cast<char>(v->fixed()));
-    v->setHessianIndex(-1);
+    v->build_block_ = -1;
     if (v->fixed() || v->edges().empty()) continue;
     active_vertices_.push_back(v.get());
   }
@@ -80,8 +80,9 @@ void HessianStructure::assignColumns(Graph& graph, const std::vector<int>* block
   block_starts_.assign(1, 0);
   block_starts_.reserve(active_vertices_.size() + 1);
   int col = 0;
-  for (Vertex* v : active_vertices_) {
-    v->setHessianIndex(col);
+  for (std::size_t b = 0; b < active_vertices_.size(); ++b) {
+    Vertex* v = active_vertices_[b];
+    v->build_block_ = static_cast<int>(b);
     col += v->dimension();
     block_starts_.push_back(col);
   }
@@ -91,12 +92,8 @@ void HessianStructure::assignColumns(Graph& graph, const std::vector<int>* block
 void HessianStructure::collectEdges(const Graph& graph, std::vector<std::pair<int, int>>& pairs,
                                     std::vector<int>& first_block) {
   const int nb = static_cast<int>(active_vertices_.size());
-  // Block of a vertex, through the column index just assigned (no hashing).
-  std::vector<int> block_of_col(static_cast<std::size_t>(n_), -1);
-  for (int b = 0; b < nb; ++b) block_of_col[block_starts_[b]] = b;
-  auto block_of = [&](const Vertex* v) {
-    return v->hessianIndex() >= 0 ? block_of_col[v->hessianIndex()] : -1;
-  };
+  // Block of a vertex, through the scratch index assignColumns just set (no hashing).
+  auto block_of = [](const Vertex* v) { return v->build_block_; };
   active_edges_.clear();
   active_edges_.reserve(graph.edges().size());
   pairs.reserve(graph.edges().size());
@@ -105,8 +102,8 @@ void HessianStructure::collectEdges(const Graph& graph, std::vector<std::pair<in
   // sort): assembling H then writes its columns in turn instead of all over the array.
   if (lower_) first_block.reserve(graph.edges().size());
   // Every active edge's slots: their columns (b's offsets, -1 for a fixed vertex),
-  // recorded now, while the vertices are visited anyway (another structure on the same
-  // graph may set their hessianIndex later). The block positions follow at the first
+  // recorded now, while the vertices are visited anyway (the scratch index is this
+  // build's only). The block positions follow at the first
   // assembly (buildRefs): a structure rebuilt in a solver's order before any assembly
   // never computes them twice.
   // Room for binary edges (the usual kind; others make the arrays grow).
@@ -318,8 +315,7 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
   std::vector<int> slots;
   for (std::size_t k = 0; k < active_edges_.size(); ++k) {
     slots.clear();
-    // The columns recorded at build (not hessianIndex(): another structure on the same
-    // graph may have set it since); the edges themselves are not visited.
+    // The columns recorded at build; the edges themselves are not visited.
     const std::size_t n = edge_b_start_[k + 1] - edge_b_start_[k];
     for (std::size_t s = 0; s < n; ++s) {
       const int col = b_offsets_[edge_b_start_[k] + s];

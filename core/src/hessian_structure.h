@@ -40,6 +40,12 @@ class HessianStructure {
   /// Positions of the diagonal entries of H inside the value array.
   [[nodiscard]] const std::vector<int>& diagonalPositions() const { return diag_pos_; }
   [[nodiscard]] const std::vector<Vertex*>& activeVertices() const { return active_vertices_; }
+  /// activeVertices()[b] owns columns [blockStarts()[b], blockStarts()[b + 1]).
+  [[nodiscard]] const std::vector<int>& blockStarts() const { return block_starts_; }
+  /// The first column of every slot of active edge k (-1: the slot's vertex is fixed).
+  [[nodiscard]] const int* slotColumns(std::size_t k) const {
+    return b_offsets_.data() + edge_b_start_[k];
+  }
   [[nodiscard]] const std::vector<Edge*>& activeEdges() const { return active_edges_; }
   /// Id of the vertex owning column `col`, -1 if out of range.
   [[nodiscard]] VertexId vertexOfColumn(int col) const;

@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
+#include <unordered_map>
 
 #include "hessian_structure.h"
 #include "thread_pool.h"
@@ -35,6 +36,9 @@ struct LinearSystem::Impl {
   bool classified = false;
   std::vector<Edge*> parallel_edges, serial_edges;
   bool jacobian_built = false;
+  /// columnOf()'s table, built at its first call after a build.
+  bool columns_built = false;
+  std::unordered_map<const Vertex*, int> column_of;
   int rows = 0;
   std::vector<int> j_col_ptr, j_row_idx, j_damping_pos;
   std::vector<int> edge_row_start;      // per active edge
@@ -47,12 +51,11 @@ struct LinearSystem::Impl {
     const auto& edges = hessian.activeEdges();
     const int n = hessian.dimension();
     const auto nb = vertices.size();
-    block_starts.assign(1, 0);
-    for (const Vertex* v : vertices) block_starts.push_back(v->hessianIndex() + v->dimension());
-    // Block b's column index from a vertex: hessianIndex -> block via lower_bound.
-    auto block_of = [&](const Vertex* v) {
+    block_starts = hessian.blockStarts();
+    // The block of a slot's first column (recorded by the structure), via lower_bound.
+    auto block_of = [&](int column) {
       return static_cast<std::size_t>(
-          std::lower_bound(block_starts.begin(), block_starts.end(), v->hessianIndex()) -
+          std::lower_bound(block_starts.begin(), block_starts.end(), column) -
           block_starts.begin());
     };
     edge_row_start.clear();
@@ -62,10 +65,10 @@ struct LinearSystem::Impl {
       const Edge* e = edges[k];
       edge_row_start.push_back(row);
       row += e->dimension();
+      const int* columns = hessian.slotColumns(k);
       for (std::size_t s = 0; s < e->numVertices(); ++s) {
-        const Vertex* v = e->vertex(s);
-        if (v->hessianIndex() < 0) continue;
-        auto& list = edges_of[block_of(v)];
+        if (columns[s] < 0) continue;
+        auto& list = edges_of[block_of(columns[s])];
         if (list.empty() || list.back() != static_cast<int>(k)) list.push_back(static_cast<int>(k));
       }
     }
@@ -95,11 +98,11 @@ struct LinearSystem::Impl {
     for (std::size_t k = 0; k < edges.size(); ++k) {
       const Edge* e = edges[k];
       slot_start.push_back(slot_refs.size());
+      const int* columns = hessian.slotColumns(k);
       for (std::size_t s = 0; s < e->numVertices(); ++s) {
-        const Vertex* v = e->vertex(s);
         JacobianBlockRef ref;
-        if (v->hessianIndex() >= 0) {
-          const std::size_t b = block_of(v);
+        if (columns[s] >= 0) {
+          const std::size_t b = block_of(columns[s]);
           const auto& list = edges_of[b];
           int within = 0;
           for (int other : list) {
@@ -124,6 +127,7 @@ bool LinearSystem::update(Graph& graph) {
   impl_->graph = &graph;
   impl_->hessian.build(graph);
   impl_->jacobian_built = false;
+  impl_->columns_built = false;
   impl_->classified = false;
   return true;
 }
@@ -147,6 +151,7 @@ bool LinearSystem::reorder(const std::vector<int>& block_order) {
     im.hessian.build(*im.graph, &block_order);
   }
   im.jacobian_built = false;
+  im.columns_built = false;
   return true;
 }
 
@@ -227,6 +232,7 @@ void LinearSystem::assembleJacobian() {
     const SmallVector ew = w * err;
     const int r0 = im.edge_row_start[k];
     for (int i = 0; i < d; ++i) residual_[static_cast<std::size_t>(r0 + i)] = ew[i];
+    const int* columns = im.hessian.slotColumns(k);
     for (std::size_t s = 0; s < e->numVertices(); ++s) {
       const JacobianBlockRef ref = im.slot_refs[im.slot_start[k] + s];
       if (ref.offset < 0) continue;
@@ -237,7 +243,7 @@ void LinearSystem::assembleJacobian() {
       for (int j = 0; j < dv; ++j) {
         double* col = j_values_.data() + ref.offset + static_cast<std::ptrdiff_t>(j) * ref.stride;
         for (int i = 0; i < d; ++i) col[i] += wj(i, j);
-        gradient_[static_cast<std::size_t>(v->hessianIndex() + j)] += wj.col(j).dot(ew);
+        gradient_[static_cast<std::size_t>(columns[s] + j)] += wj.col(j).dot(ew);
       }
     }
   }
@@ -268,6 +274,21 @@ JacobianStructure LinearSystem::jacobianStructure() {
 const std::vector<int>& LinearSystem::jacobianDampingPositions() {
   if (!impl_->jacobian_built) impl_->buildJacobian();
   return impl_->j_damping_pos;
+}
+
+const std::vector<int>& LinearSystem::blockStarts() const { return impl_->hessian.blockStarts(); }
+
+int LinearSystem::columnOf(const Vertex& v) const {
+  Impl& im = *impl_;
+  if (!im.columns_built) {
+    im.column_of.clear();
+    const auto& vertices = im.hessian.activeVertices();
+    const auto& starts = im.hessian.blockStarts();
+    for (std::size_t b = 0; b < vertices.size(); ++b) im.column_of.emplace(vertices[b], starts[b]);
+    im.columns_built = true;
+  }
+  const auto it = im.column_of.find(&v);
+  return it == im.column_of.end() ? -1 : it->second;
 }
 
 const std::vector<Vertex*>& LinearSystem::activeVertices() const {

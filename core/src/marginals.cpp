@@ -63,23 +63,6 @@ std::string idList(const std::vector<VertexId>& ids) {
   return s;
 }
 
-/// Restores every vertex's Hessian index on destruction: an optimizer working on the
-/// same graph keeps its own structure and relies on the indices it set.
-class HessianIndexGuard {
- public:
-  explicit HessianIndexGuard(Graph& graph) {
-    saved_.reserve(graph.numVertices());
-    for (const auto& [id, v] : graph.vertices()) saved_.emplace_back(v.get(), v->hessianIndex());
-  }
-  ~HessianIndexGuard() {
-    for (auto& [v, index] : saved_) v->setHessianIndex(index);
-  }
-  HessianIndexGuard(const HessianIndexGuard&) = delete;
-  HessianIndexGuard& operator=(const HessianIndexGuard&) = delete;
-
- private:
-  std::vector<std::pair<Vertex*, int>> saved_;
-};
 
 }  // namespace
 
@@ -105,8 +88,9 @@ struct MarginalCovariance::Impl {
   void rebuild(Graph& graph) {
     structure.build(graph);
     column_of.clear();
-    for (const Vertex* v : structure.activeVertices())
-      column_of.emplace(v->id(), v->hessianIndex());
+    const auto& vertices = structure.activeVertices();
+    for (std::size_t b = 0; b < vertices.size(); ++b)
+      column_of.emplace(vertices[b]->id(), structure.blockStarts()[b]);
     const int n = structure.dimension();
     order = n > 0 ? blockAmdOrdering(structure.sparseStructure()) : std::vector<int>{};
     p.resize(n);
@@ -361,7 +345,6 @@ MarginalSummary MarginalCovariance::compute(
     require(b);
   }
 
-  const HessianIndexGuard guard(graph);
   const detail::GaugeFix gauge(graph, options_.fix_gauge);
   summary.gauge_fixed = gauge.fixedIds();
 

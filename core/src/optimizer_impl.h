@@ -306,9 +306,11 @@ struct Optimizer::Impl {
   }
 
   void applyUpdate() {
-    for (Vertex* v : structure.activeVertices()) {
-      v->push();
-      v->oplus(dx.data() + v->hessianIndex());
+    const auto& vertices = structure.activeVertices();
+    const auto& starts = structure.blockStarts();
+    for (std::size_t b = 0; b < vertices.size(); ++b) {
+      vertices[b]->push();
+      vertices[b]->oplus(dx.data() + starts[b]);
     }
   }
   void undoUpdate() {

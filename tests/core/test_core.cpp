@@ -802,7 +802,8 @@ Eigen::MatrixXd denseInIdOrder(const LinearSystem& system,
   const SparseStructure s = system.hessianStructure();
   std::vector<int> id_column(static_cast<std::size_t>(s.n));
   for (const Vertex* v : system.activeVertices()) {
-    for (int j = 0; j < v->dimension(); ++j) id_column[v->hessianIndex() + j] = column_of.at(v) + j;
+    for (int j = 0; j < v->dimension(); ++j)
+      id_column[system.columnOf(*v) + j] = column_of.at(v) + j;
   }
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
   const auto& values = system.hessianValues();
@@ -881,7 +882,7 @@ TEST(Core_LinearSystem, ReorderedHessianIsTheSameMatrixInTheLowerTriangle) {
   system.assembleHessian();
   const int n = system.dimension();
   std::map<const Vertex*, int> column_of;
-  for (const Vertex* v : system.activeVertices()) column_of[v] = v->hessianIndex();
+  for (const Vertex* v : system.activeVertices()) column_of[v] = system.columnOf(*v);
   const Eigen::MatrixXd h_id = denseInIdOrder(system, column_of, n);
   const std::vector<double> g_id = system.gradient();
   const std::vector<Vertex*> by_id = system.activeVertices();
@@ -900,13 +901,14 @@ TEST(Core_LinearSystem, ReorderedHessianIsTheSameMatrixInTheLowerTriangle) {
   EXPECT_TRUE(system.reordered());
   EXPECT_TRUE(system.hessianStructure().lower);
   EXPECT_EQ(system.activeVertices()[0], by_id[static_cast<std::size_t>(order[0])]);
-  EXPECT_EQ(system.activeVertices()[0]->hessianIndex(), 0);
+  EXPECT_EQ(system.columnOf(*system.activeVertices()[0]), 0);
+  EXPECT_EQ(system.blockStarts()[0], 0);
   system.assembleHessian();
   const Eigen::MatrixXd h_shuffled = denseInIdOrder(system, column_of, n);
   EXPECT_LT((h_shuffled - h_id).cwiseAbs().maxCoeff(), 1e-12 * h_id.cwiseAbs().maxCoeff());
   for (const Vertex* v : system.activeVertices()) {
     for (int j = 0; j < v->dimension(); ++j) {
-      EXPECT_NEAR(system.gradient()[v->hessianIndex() + j], g_id[column_of[v] + j],
+      EXPECT_NEAR(system.gradient()[system.columnOf(*v) + j], g_id[column_of[v] + j],
                   1e-12 * std::max(1.0, std::abs(g_id[column_of[v] + j])));
     }
   }
@@ -924,7 +926,7 @@ TEST(Core_LinearSystem, ReorderedHessianIsTheSameMatrixInTheLowerTriangle) {
 
   ASSERT_TRUE(system.reorder({}));
   EXPECT_FALSE(system.reordered());
-  for (const Vertex* v : system.activeVertices()) EXPECT_EQ(v->hessianIndex(), column_of[v]);
+  for (const Vertex* v : system.activeVertices()) EXPECT_EQ(system.columnOf(*v), column_of[v]);
 }
 
 // A solver that asks for its own block order gets H's lower triangle in that order, and

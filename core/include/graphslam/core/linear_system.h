@@ -18,8 +18,10 @@ namespace graphslam {
 ///  - the whitened Jacobian J_w dx ~= -r_w with J_w = W J, r_w = W e, W^T W = Omega
 ///    (JacobianStructure, with one damping row per column at the bottom).
 /// The active vertices are the non-fixed ones with at least one edge, in id order (or a
-/// solver's order, reorder()); they get consecutive columns (Vertex::hessianIndex). Structures are
-/// rebuilt only when the graph changes (vertices or edges added or removed, fixed flags changed).
+/// solver's order, reorder()); they get consecutive columns, which belong to this system
+/// (blockStarts(), columnOf()): several systems on one graph do not disturb each other.
+/// Structures are rebuilt only when the graph changes (vertices or edges added or removed,
+/// fixed flags changed).
 /// The optimizer uses this class; so can tools that study linear solvers on a graph's system.
 class LinearSystem {
  public:
@@ -34,8 +36,8 @@ class LinearSystem {
   /// Rebuilds H's structure with the active vertices in `block_order` (a permutation of
   /// them in id order: block_order[k] is the one placed at position k) and H stored as
   /// its lower triangle (LinearSolver::preferredBlockOrder); an empty order restores the
-  /// id order and the upper triangle. Vertex::hessianIndex, the gradient and the
-  /// diagonal positions follow. Returns false (and changes nothing) when `block_order`
+  /// id order and the upper triangle. The columns, the gradient and the diagonal
+  /// positions follow. Returns false (and changes nothing) when `block_order`
   /// is not a permutation of the active vertices. Needs a prior update().
   bool reorder(const std::vector<int>& block_order);
   /// Whether H is stored in a solver's block order (reorder() with a permutation).
@@ -81,6 +83,11 @@ class LinearSystem {
   [[nodiscard]] const std::vector<double>& gradient() const { return gradient_; }
 
   [[nodiscard]] const std::vector<Vertex*>& activeVertices() const;
+  /// The system's columns: activeVertices()[b] owns [blockStarts()[b], blockStarts()[b + 1]).
+  [[nodiscard]] const std::vector<int>& blockStarts() const;
+  /// First column of `v` in this system, -1 when it is not active (fixed, without edges or
+  /// not in the graph). A look-up table is built at the first call after each build.
+  [[nodiscard]] int columnOf(const Vertex& v) const;
   [[nodiscard]] const std::vector<Edge*>& activeEdges() const;
   /// Id of the vertex owning column `col`, -1 if out of range.
   [[nodiscard]] VertexId vertexOfColumn(int col) const;

@@ -9,6 +9,9 @@ using VertexId = int;
 
 class Edge;
 class Graph;
+namespace detail {
+class HessianStructure;
+}  // namespace detail
 
 /// A variable of the optimisation problem: an estimate living on a manifold of tangent
 /// dimension `dimension()`, updated by `oplus(delta)`.
@@ -57,17 +60,19 @@ class Vertex {
   /// Edges incident to this vertex (maintained by the owning Graph).
   [[nodiscard]] const std::vector<Edge*>& edges() const { return edges_; }
 
-  /// Offset of this vertex's first column in the optimizer's system, -1 when fixed or not
-  /// part of the current problem. Set by the optimizer.
-  [[nodiscard]] int hessianIndex() const { return hessian_index_; }
-  void setHessianIndex(int index) { hessian_index_ = index; }
+  // A vertex's columns in a linear system belong to that system
+  // (LinearSystem::columnOf, LinearSystem::blockStarts): several systems may be built on
+  // one graph, each with its own order.
 
  private:
   friend class Graph;
+  friend class detail::HessianStructure;
   VertexId id_ = -1;
   int dimension_;
   bool fixed_ = false;
-  int hessian_index_ = -1;
+  /// Scratch of HessianStructure::build only: the vertex's block while the structure is
+  /// built (-1: not active). Not meaningful outside that call.
+  int build_block_ = -1;
   std::vector<Edge*> edges_;
 };
 
