@@ -99,144 +99,17 @@ class BlockCholesky final : public detail::OrderedSolver {
     nb_ = s.num_blocks;
     n_ = s.n;
     start_.assign(s.block_starts, s.block_starts + nb_ + 1);
-    uniform_ = true;
-    for (int b = 0; b < nb_; ++b) {
-      const int d = start_[b + 1] - start_[b];
-      if (d < 1 || d > B) {
-        return LinearSolverResult::failure(LinearSolverStatus::kFailure,
-                                           "block-llt: a vertex of dimension " + std::to_string(d) +
-                                               " in blocks of " + std::to_string(B));
-      }
-      uniform_ = uniform_ && d == B;
-      // Blocks are read with one stride per block column: every column of a block must
-      // store the same rows (complete blocks, as SparseStructure asks).
-      const int len = s.col_ptr[start_[b] + 1] - s.col_ptr[start_[b]];
-      for (int c = start_[b] + 1; c < start_[b + 1]; ++c) {
-        if (s.col_ptr[c + 1] - s.col_ptr[c] != len) {
-          return LinearSolverResult::failure(
-              LinearSolverStatus::kFailure,
-              "block-llt: columns " + std::to_string(start_[b]) + " and " + std::to_string(c) +
-                  " of one vertex store different rows (blocks must be stored complete)",
-              c);
-        }
-      }
-    }
+    if (LinearSolverResult r = checkBlocks(s); !r.ok()) return r;
     const std::vector<int> block = detail::blockOfColumn(s.block_starts, nb_, s.n);
-    // Block permutation: old_[k] = original block at position k.
-    old_.clear();
     std::vector<int> pos(static_cast<std::size_t>(nb_), -1);
-    for (int c : order) {
-      const int b = block[c];
-      if (pos[b] >= 0) continue;
-      pos[b] = static_cast<int>(old_.size());
-      old_.push_back(b);
-    }
-    // A's upper blocks per new column k: (new row i <= k, first value, stride, shape,
-    // transposed). Counted, then filled; the rows of a column stay in H's order, unsorted:
-    // the row-pattern pass finds a topological order from any order of them (as
-    // LDL's and CSparse's reach do), and the factorisation scatters them.
-    a_ptr_.assign(static_cast<std::size_t>(nb_) + 2, 0);
-    auto for_blocks = [&](auto&& visit) {
-      for (int c = 0; c < nb_; ++c) {
-        const int col0 = start_[c];
-        for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
-          const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
-          visit(r, c, p);
-          // Every block B rows when all are (the next position then does not wait for
-          // this block's loads).
-          p += uniform_ ? B : start_[r + 1] - start_[r];
-        }
-      }
-    };
-    for_blocks([&](int r, int c, int) { ++a_ptr_[std::max(pos[r], pos[c]) + 2]; });
-    for (int k = 0; k < nb_; ++k) a_ptr_[k + 2] += a_ptr_[k + 1];
-    a_.resize(static_cast<std::size_t>(a_ptr_[nb_ + 1]));
-    for_blocks([&](int r, int c, int p) {
-      const int pr = pos[r], pc = pos[c];
-      const auto rows = static_cast<std::int8_t>(start_[r + 1] - start_[r]);
-      const auto cols = static_cast<std::int8_t>(start_[c + 1] - start_[c]);
-      const int stride = s.col_ptr[start_[c] + 1] - s.col_ptr[start_[c]];
-      // In the new order the block is (min, max); transposed when the row moved below.
-      if (pr <= pc) {
-        a_[a_ptr_[pc + 1]++] = {pr, p, stride, rows, cols, false};
-      } else {
-        a_[a_ptr_[pr + 1]++] = {pc, p, stride, rows, cols, true};
-      }
-    });
-    a_ptr_.pop_back();
-    // Elimination tree and the row patterns of L (row subtrees) in one pass, as LDL's
-    // symbolic analysis does: row k's pattern is every node on the paths up the tree from
-    // the rows of A(k, 0..k-1) until k or a node already met; a node on such a path
-    // without a parent yet has k as its parent. Each path is stacked in front of those
-    // found before it (which it ends in), so each row i comes after every row below it
-    // in the tree, as the up-looking factorisation needs; no sort.
-    std::vector<int> parent(static_cast<std::size_t>(nb_), -1);
-    std::vector<int> flag(static_cast<std::size_t>(nb_), -1);
-    row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
-    row_idx_.clear();
+    permuteBlocks(order, block, pos);
+    gatherUpperBlocks(s, block, pos);
     std::vector<int> count(static_cast<std::size_t>(nb_), 0);  // off-diagonal blocks per column
     std::vector<double> below(static_cast<std::size_t>(nb_), 0.0);  // and their scalar rows
-    std::vector<int> stack(static_cast<std::size_t>(nb_)), path(static_cast<std::size_t>(nb_));
-    for (int k = 0; k < nb_; ++k) {
-      flag[k] = k;
-      int top = nb_;
-      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
-        int len = 0;
-        for (int i = a_[q].row; flag[i] != k; i = parent[i]) {
-          if (parent[i] < 0) parent[i] = k;
-          flag[i] = k;
-          path[len++] = i;
-        }
-        while (len > 0) stack[--top] = path[--len];
-      }
-      const int dk = dim(old_[k]);
-      for (int t = top; t < nb_; ++t) {
-        ++count[stack[t]];
-        below[stack[t]] += dk;
-      }
-      row_idx_.insert(row_idx_.end(), stack.begin() + top, stack.end());
-      row_ptr_[k + 1] = static_cast<int>(row_idx_.size());
-    }
-    // Size and work of L, unpadded: scalar column t of block column i holds d_i - t rows
-    // of the diagonal block and below_i below it.
-    cost_ = {};
-    for (int i = 0; i < nb_; ++i) {
-      const int d = dim(old_[i]);
-      for (int t = 0; t < d; ++t) {
-        const double c = (d - t) + below[i];
-        cost_.factor_nonzeros += c;
-        cost_.flops += c * c;
-      }
-    }
-    // Column storage: column i = diagonal block then count[i] blocks; entry of (k, i) in
-    // row order of k gets the next free slot of column i.
-    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
-    for (int i = 0; i < nb_; ++i) col_ptr_[i + 1] = col_ptr_[i] + 1 + count[i];
-    col_row_.assign(static_cast<std::size_t>(col_ptr_[nb_]), 0);
-    entry_.assign(row_idx_.size(), 0);
-    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
-    for (int i = 0; i < nb_; ++i) col_row_[next[i]++] = i;
-    for (int k = 0; k < nb_; ++k) {
-      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
-        const int i = row_idx_[q];
-        entry_[q] = next[i];
-        col_row_[next[i]++] = k;
-      }
-    }
-    // Dense tail: the last columns k >= tail_ each hold every row below them. Kept when
-    // it is long enough and padding would be at least dense_tail_min_padding of it (of B x B
-    // blocks, the up-looking loop is as fast as the dense factorisation).
-    tail_ = nb_;
-    while (tail_ > 0 && count[tail_ - 1] == nb_ - tail_) --tail_;
-    tail_start_.assign(1, 0);
-    for (int k = tail_; k < nb_; ++k) tail_start_.push_back(tail_start_.back() + dim(old_[k]));
-    const double padded = static_cast<double>(B) * (nb_ - tail_);
-    if (nb_ - tail_ < options_.dense_tail_min_blocks ||
-        tail_start_.back() > (1.0 - options_.dense_tail_min_padding) * padded) {
-      tail_ = nb_;
-      tail_start_.assign(1, 0);
-    }
-    tail_matrix_.resize(tail_start_.back(), tail_start_.back());
+    findRowPatterns(count, below);
+    predictCost(below);
+    buildColumnStorage(count);
+    chooseDenseTail(count);
     // Every entry is written before it is read (factorize): no initialisation.
     values_.clear();
     values_.resize(static_cast<std::size_t>(col_ptr_[nb_]));
@@ -381,6 +254,169 @@ class BlockCholesky final : public detail::OrderedSolver {
 
  private:
   int dim(int original_block) const { return start_[original_block + 1] - start_[original_block]; }
+
+  /// Every vertex of dimension 1..B with its columns storing the same rows; sets uniform_
+  /// (all of dimension B).
+  LinearSolverResult checkBlocks(const SparseStructure& s) {
+    uniform_ = true;
+    for (int b = 0; b < nb_; ++b) {
+      const int d = start_[b + 1] - start_[b];
+      if (d < 1 || d > B) {
+        return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                           "block-llt: a vertex of dimension " + std::to_string(d) +
+                                               " in blocks of " + std::to_string(B));
+      }
+      uniform_ = uniform_ && d == B;
+      // Blocks are read with one stride per block column: every column of a block must
+      // store the same rows (complete blocks, as SparseStructure asks).
+      const int len = s.col_ptr[start_[b] + 1] - s.col_ptr[start_[b]];
+      for (int c = start_[b] + 1; c < start_[b + 1]; ++c) {
+        if (s.col_ptr[c + 1] - s.col_ptr[c] != len) {
+          return LinearSolverResult::failure(
+              LinearSolverStatus::kFailure,
+              "block-llt: columns " + std::to_string(start_[b]) + " and " + std::to_string(c) +
+                  " of one vertex store different rows (blocks must be stored complete)",
+              c);
+        }
+      }
+    }
+    return LinearSolverResult::success();
+  }
+
+  /// Block permutation from the scalar `order`: old_[k] = original block at position k,
+  /// pos[b] = position of original block b (`block`: block of each scalar column).
+  void permuteBlocks(const std::vector<int>& order, const std::vector<int>& block,
+                     std::vector<int>& pos) {
+    old_.clear();
+    for (int c : order) {
+      const int b = block[c];
+      if (pos[b] >= 0) continue;
+      pos[b] = static_cast<int>(old_.size());
+      old_.push_back(b);
+    }
+  }
+
+  /// A's upper blocks per new column k (a_ptr_, a_): (new row i <= k, first value, stride,
+  /// shape, transposed). Counted, then filled; the rows of a column stay in H's order,
+  /// unsorted: the row-pattern pass finds a topological order from any order of them (as
+  /// LDL's and CSparse's reach do), and the factorisation scatters them.
+  void gatherUpperBlocks(const SparseStructure& s, const std::vector<int>& block,
+                         const std::vector<int>& pos) {
+    a_ptr_.assign(static_cast<std::size_t>(nb_) + 2, 0);
+    auto for_blocks = [&](auto&& visit) {
+      for (int c = 0; c < nb_; ++c) {
+        const int col0 = start_[c];
+        for (int p = s.col_ptr[col0]; p < s.col_ptr[col0 + 1];) {
+          const int r = block[s.row_idx[p]];  // H's upper block (r, c), r <= c
+          visit(r, c, p);
+          // Every block B rows when all are (the next position then does not wait for
+          // this block's loads).
+          p += uniform_ ? B : start_[r + 1] - start_[r];
+        }
+      }
+    };
+    for_blocks([&](int r, int c, int) { ++a_ptr_[std::max(pos[r], pos[c]) + 2]; });
+    for (int k = 0; k < nb_; ++k) a_ptr_[k + 2] += a_ptr_[k + 1];
+    a_.resize(static_cast<std::size_t>(a_ptr_[nb_ + 1]));
+    for_blocks([&](int r, int c, int p) {
+      const int pr = pos[r], pc = pos[c];
+      const auto rows = static_cast<std::int8_t>(start_[r + 1] - start_[r]);
+      const auto cols = static_cast<std::int8_t>(start_[c + 1] - start_[c]);
+      const int stride = s.col_ptr[start_[c] + 1] - s.col_ptr[start_[c]];
+      // In the new order the block is (min, max); transposed when the row moved below.
+      if (pr <= pc) {
+        a_[a_ptr_[pc + 1]++] = {pr, p, stride, rows, cols, false};
+      } else {
+        a_[a_ptr_[pr + 1]++] = {pc, p, stride, rows, cols, true};
+      }
+    });
+    a_ptr_.pop_back();
+  }
+
+  /// Elimination tree and the row patterns of L (row subtrees: row_ptr_, row_idx_) in one
+  /// pass, as LDL's symbolic analysis does: row k's pattern is every node on the paths up
+  /// the tree from the rows of A(k, 0..k-1) until k or a node already met; a node on such a
+  /// path without a parent yet has k as its parent. Each path is stacked in front of those
+  /// found before it (which it ends in), so each row i comes after every row below it in the
+  /// tree, as the up-looking factorisation needs; no sort. Adds to count[i] the off-diagonal
+  /// blocks of column i, to below[i] their scalar rows.
+  void findRowPatterns(std::vector<int>& count, std::vector<double>& below) {
+    std::vector<int> parent(static_cast<std::size_t>(nb_), -1);
+    std::vector<int> flag(static_cast<std::size_t>(nb_), -1);
+    row_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    row_idx_.clear();
+    std::vector<int> stack(static_cast<std::size_t>(nb_)), path(static_cast<std::size_t>(nb_));
+    for (int k = 0; k < nb_; ++k) {
+      flag[k] = k;
+      int top = nb_;
+      for (int q = a_ptr_[k]; q < a_ptr_[k + 1]; ++q) {
+        int len = 0;
+        for (int i = a_[q].row; flag[i] != k; i = parent[i]) {
+          if (parent[i] < 0) parent[i] = k;
+          flag[i] = k;
+          path[len++] = i;
+        }
+        while (len > 0) stack[--top] = path[--len];
+      }
+      const int dk = dim(old_[k]);
+      for (int t = top; t < nb_; ++t) {
+        ++count[stack[t]];
+        below[stack[t]] += dk;
+      }
+      row_idx_.insert(row_idx_.end(), stack.begin() + top, stack.end());
+      row_ptr_[k + 1] = static_cast<int>(row_idx_.size());
+    }
+  }
+
+  /// Size and work of L, unpadded (cost_): scalar column t of block column i holds d_i - t
+  /// rows of the diagonal block and below[i] below it.
+  void predictCost(const std::vector<double>& below) {
+    cost_ = {};
+    for (int i = 0; i < nb_; ++i) {
+      const int d = dim(old_[i]);
+      for (int t = 0; t < d; ++t) {
+        const double c = (d - t) + below[i];
+        cost_.factor_nonzeros += c;
+        cost_.flops += c * c;
+      }
+    }
+  }
+
+  /// Column storage (col_ptr_, col_row_, entry_): column i = diagonal block then count[i]
+  /// blocks; entry of (k, i) in row order of k gets the next free slot of column i.
+  void buildColumnStorage(const std::vector<int>& count) {
+    col_ptr_.assign(static_cast<std::size_t>(nb_) + 1, 0);
+    for (int i = 0; i < nb_; ++i) col_ptr_[i + 1] = col_ptr_[i] + 1 + count[i];
+    col_row_.assign(static_cast<std::size_t>(col_ptr_[nb_]), 0);
+    entry_.assign(row_idx_.size(), 0);
+    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
+    for (int i = 0; i < nb_; ++i) col_row_[next[i]++] = i;
+    for (int k = 0; k < nb_; ++k) {
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) {
+        const int i = row_idx_[q];
+        entry_[q] = next[i];
+        col_row_[next[i]++] = k;
+      }
+    }
+  }
+
+  /// Dense tail (tail_, tail_start_, tail_matrix_): the last columns k >= tail_ each hold
+  /// every row below them. Kept when it is long enough and padding would be at least
+  /// dense_tail_min_padding of it (of B x B blocks, the up-looking loop is as fast as the
+  /// dense factorisation).
+  void chooseDenseTail(const std::vector<int>& count) {
+    tail_ = nb_;
+    while (tail_ > 0 && count[tail_ - 1] == nb_ - tail_) --tail_;
+    tail_start_.assign(1, 0);
+    for (int k = tail_; k < nb_; ++k) tail_start_.push_back(tail_start_.back() + dim(old_[k]));
+    const double padded = static_cast<double>(B) * (nb_ - tail_);
+    if (nb_ - tail_ < options_.dense_tail_min_blocks ||
+        tail_start_.back() > (1.0 - options_.dense_tail_min_padding) * padded) {
+      tail_ = nb_;
+      tail_start_.assign(1, 0);
+    }
+    tail_matrix_.resize(tail_start_.back(), tail_start_.back());
+  }
 
   struct AEntry {
     int row;

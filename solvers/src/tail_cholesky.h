@@ -85,109 +85,11 @@ class TailCholesky final : public OrderedSolver {
       return LinearSolverResult::failure(LinearSolverStatus::kFailure,
                                          "tail-llt: needs the upper triangle");
     }
-    const auto upper = [&](int k, auto&& visit) {
-      for (int p = s.col_ptr[k]; p < s.col_ptr[k + 1] && s.row_idx[p] < k; ++p) {
-        visit(s.row_idx[p]);
-      }
-    };
-    // One walk: the elimination tree, then row k of L (the columns on the tree paths from
-    // A's rows i < k of column k up to k: its row subtree) for every k, stored by rows,
-    // and the column counts.
-    parent_ = eliminationTree(n_, upper);
-    counts_.assign(static_cast<std::size_t>(n_), 1);
-    row_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
-    row_col_.clear();
-    row_col_.reserve(2 * s.nnz());  // a guess: L has about twice A's entries here
-    bool stored = true;
-    std::vector<int> flag(static_cast<std::size_t>(n_), -1);
-    int* const count = counts_.data();
-    const int* const parent = parent_.data();
-    for (int k = 0; k < n_; ++k) {
-      flag[k] = k;
-      upper(k, [&](int r) {
-        for (int i = r; flag[i] != k; i = parent[i]) {
-          flag[i] = k;
-          ++count[i];
-          if (stored) row_col_.push_back(i);
-        }
-      });
-      if (stored && row_col_.size() > kMaxRowEntries) {  // too large to be worth it: count on
-        stored = false;
-        std::vector<int>().swap(row_col_);
-      }
-      row_ptr_[k + 1] = static_cast<int>(row_col_.size());
-    }
-    if (!stored) return noTail();
-    // The dense tail: the last columns, each holding every row below it, when BLAS pays
-    // for it (the rows in it of the columns before it, from the tail's row patterns);
-    // else none, every column by the loop.
-    t_ = n_;
-    while (t_ > 0 && counts_[t_ - 1] == n_ - t_ + 1) --t_;
-    k_ = n_ - t_;
-    double sparse = 0.0;
-    std::vector<int> in_tail(static_cast<std::size_t>(t_), 0);
-    if (k_ >= kBlasTailMinRows) {
-      for (int q = row_ptr_[t_]; q < row_ptr_[n_]; ++q) {
-        if (row_col_[q] < t_) ++in_tail[row_col_[q]];
-      }
-      double pairs = 0.0, panel_columns = 0.0;
-      for (int j = 0; j < t_; ++j) {
-        const double c = counts_[j], r = in_tail[j];
-        pairs += r * r;
-        sparse += c * c - r * r;
-        panel_columns += r > 0 ? 1.0 : 0.0;
-      }
-      if (!blasTailPays(k_, panel_columns, pairs)) k_ = 0;
-    } else {
-      k_ = 0;
-    }
-    if (k_ == 0) {
-      t_ = n_;
-      in_tail.assign(static_cast<std::size_t>(n_), 0);
-      sparse = 0.0;
-      for (const int c : counts_) sparse += static_cast<double>(c) * c;
-    }
-    if (sparse > max_sparse_flops_) return noTail();
-    // Columns before the tail: the diagonal, then their rows before the tail, ascending;
-    // their rows in the tail are a dense column of W (k rows, zeros included) for every
-    // column that has any. Only the rows before the tail keep their patterns (the loop's).
-    col_ptr_.assign(static_cast<std::size_t>(t_) + 1, 0);
-    panel_pos_.assign(static_cast<std::size_t>(t_), -1);
-    m_ = 0;
-    tail_entries_ = 0;
-    for (int j = 0; j < t_; ++j) {
-      col_ptr_[j + 1] = col_ptr_[j] + counts_[j] - in_tail[j];
-      if (in_tail[j] > 0) panel_pos_[j] = m_++;
-      tail_entries_ += static_cast<std::size_t>(in_tail[j]);
-    }
-    col_row_.resize(static_cast<std::size_t>(col_ptr_[t_]));
-    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
-    for (int j = 0; j < t_; ++j) col_row_[next[j]++] = j;
-    int* const rows = col_row_.data();
-    int* const cols = row_col_.data();
-    int* const slot = next.data();
-    for (int k = 0; k < t_; ++k) {  // row k's columns are all before it: kept in place
-      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) rows[slot[cols[q]]++] = k;
-    }
-    for (int k = t_; k < n_; ++k) row_ptr_[k + 1] = row_ptr_[t_];
-    row_col_.resize(static_cast<std::size_t>(row_ptr_[t_]));
-    // A's lower triangle by columns (rows >= j) with the position of every value in the
-    // caller's array: the left-looking loop gathers column j.
-    a_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
-    for (int c = 0; c < n_; ++c) {
-      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) ++a_ptr_[s.row_idx[p] + 1];
-    }
-    for (int j = 0; j < n_; ++j) a_ptr_[j + 1] += a_ptr_[j];
-    a_row_.resize(static_cast<std::size_t>(a_ptr_[n_]));
-    a_src_.resize(a_row_.size());
-    std::vector<int> at(a_ptr_.begin(), a_ptr_.end() - 1);
-    for (int c = 0; c < n_; ++c) {
-      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) {
-        const int r = s.row_idx[p];  // upper (r, c) is lower (c, r): column r
-        a_row_[at[r]] = c;
-        a_src_[at[r]++] = p;
-      }
-    }
+    if (!findRowPatterns(s)) return noTail();
+    std::vector<int> in_tail;
+    if (chooseDenseTail(in_tail) > max_sparse_flops_) return noTail();
+    buildColumnStorage(in_tail);
+    gatherLowerTriangle(s);
     values_.assign(static_cast<std::size_t>(col_ptr_[t_]), 0.0);
     work_.assign(static_cast<std::size_t>(n_), 0.0);
     cursor_.assign(static_cast<std::size_t>(t_), 0);
@@ -284,6 +186,124 @@ class TailCholesky final : public OrderedSolver {
   }
 
  private:
+  /// One walk: the elimination tree (parent_), then row k of L (the columns on the tree
+  /// paths from A's rows i < k of column k up to k: its row subtree) for every k, stored by
+  /// rows (row_ptr_, row_col_), and the column counts (counts_). False when the rows are too
+  /// many to keep (kMaxRowEntries; the counts are complete all the same).
+  bool findRowPatterns(const SparseStructure& s) {
+    const auto upper = [&](int k, auto&& visit) {
+      for (int p = s.col_ptr[k]; p < s.col_ptr[k + 1] && s.row_idx[p] < k; ++p) {
+        visit(s.row_idx[p]);
+      }
+    };
+    parent_ = eliminationTree(n_, upper);
+    counts_.assign(static_cast<std::size_t>(n_), 1);
+    row_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
+    row_col_.clear();
+    row_col_.reserve(2 * s.nnz());  // a guess: L has about twice A's entries here
+    bool stored = true;
+    std::vector<int> flag(static_cast<std::size_t>(n_), -1);
+    int* const count = counts_.data();
+    const int* const parent = parent_.data();
+    for (int k = 0; k < n_; ++k) {
+      flag[k] = k;
+      upper(k, [&](int r) {
+        for (int i = r; flag[i] != k; i = parent[i]) {
+          flag[i] = k;
+          ++count[i];
+          if (stored) row_col_.push_back(i);
+        }
+      });
+      if (stored && row_col_.size() > kMaxRowEntries) {  // too large to be worth it: count on
+        stored = false;
+        std::vector<int>().swap(row_col_);
+      }
+      row_ptr_[k + 1] = static_cast<int>(row_col_.size());
+    }
+    return stored;
+  }
+
+  /// The dense tail (t_, k_): the last columns, each holding every row below it, when BLAS
+  /// pays for it (the rows in it of the columns before it, from the tail's row patterns);
+  /// else none, every column by the loop. Fills in_tail[j] (column j's rows in the tail)
+  /// and returns the work of the columns the loop factorises.
+  double chooseDenseTail(std::vector<int>& in_tail) {
+    t_ = n_;
+    while (t_ > 0 && counts_[t_ - 1] == n_ - t_ + 1) --t_;
+    k_ = n_ - t_;
+    double sparse = 0.0;
+    in_tail.assign(static_cast<std::size_t>(t_), 0);
+    if (k_ >= kBlasTailMinRows) {
+      for (int q = row_ptr_[t_]; q < row_ptr_[n_]; ++q) {
+        if (row_col_[q] < t_) ++in_tail[row_col_[q]];
+      }
+      double pairs = 0.0, panel_columns = 0.0;
+      for (int j = 0; j < t_; ++j) {
+        const double c = counts_[j], r = in_tail[j];
+        pairs += r * r;
+        sparse += c * c - r * r;
+        panel_columns += r > 0 ? 1.0 : 0.0;
+      }
+      if (!blasTailPays(k_, panel_columns, pairs)) k_ = 0;
+    } else {
+      k_ = 0;
+    }
+    if (k_ == 0) {
+      t_ = n_;
+      in_tail.assign(static_cast<std::size_t>(n_), 0);
+      sparse = 0.0;
+      for (const int c : counts_) sparse += static_cast<double>(c) * c;
+    }
+    return sparse;
+  }
+
+  /// Columns before the tail (col_ptr_, col_row_): the diagonal, then their rows before the
+  /// tail, ascending; their rows in the tail are a dense column of W (k rows, zeros
+  /// included) for every column that has any (panel_pos_). Only the rows before the tail
+  /// keep their patterns (the loop's).
+  void buildColumnStorage(const std::vector<int>& in_tail) {
+    col_ptr_.assign(static_cast<std::size_t>(t_) + 1, 0);
+    panel_pos_.assign(static_cast<std::size_t>(t_), -1);
+    m_ = 0;
+    tail_entries_ = 0;
+    for (int j = 0; j < t_; ++j) {
+      col_ptr_[j + 1] = col_ptr_[j] + counts_[j] - in_tail[j];
+      if (in_tail[j] > 0) panel_pos_[j] = m_++;
+      tail_entries_ += static_cast<std::size_t>(in_tail[j]);
+    }
+    col_row_.resize(static_cast<std::size_t>(col_ptr_[t_]));
+    std::vector<int> next(col_ptr_.begin(), col_ptr_.end() - 1);
+    for (int j = 0; j < t_; ++j) col_row_[next[j]++] = j;
+    int* const rows = col_row_.data();
+    int* const cols = row_col_.data();
+    int* const slot = next.data();
+    for (int k = 0; k < t_; ++k) {  // row k's columns are all before it: kept in place
+      for (int q = row_ptr_[k]; q < row_ptr_[k + 1]; ++q) rows[slot[cols[q]]++] = k;
+    }
+    for (int k = t_; k < n_; ++k) row_ptr_[k + 1] = row_ptr_[t_];
+    row_col_.resize(static_cast<std::size_t>(row_ptr_[t_]));
+  }
+
+  /// A's lower triangle by columns (rows >= j) with the position of every value in the
+  /// caller's array (a_ptr_, a_row_, a_src_): the left-looking loop gathers column j.
+  void gatherLowerTriangle(const SparseStructure& s) {
+    a_ptr_.assign(static_cast<std::size_t>(n_) + 1, 0);
+    for (int c = 0; c < n_; ++c) {
+      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) ++a_ptr_[s.row_idx[p] + 1];
+    }
+    for (int j = 0; j < n_; ++j) a_ptr_[j + 1] += a_ptr_[j];
+    a_row_.resize(static_cast<std::size_t>(a_ptr_[n_]));
+    a_src_.resize(a_row_.size());
+    std::vector<int> at(a_ptr_.begin(), a_ptr_.end() - 1);
+    for (int c = 0; c < n_; ++c) {
+      for (int p = s.col_ptr[c]; p < s.col_ptr[c + 1]; ++p) {
+        const int r = s.row_idx[p];  // upper (r, c) is lower (c, r): column r
+        a_row_[at[r]] = c;
+        a_src_[at[r]++] = p;
+      }
+    }
+  }
+
   /// L L^T Y = B for the d interleaved columns of y (D: d fixed at compile time, or 0):
   /// the columns before the tail by sparse substitution, the tail's k x d block by dtrsm.
   template <int D>
