@@ -78,14 +78,17 @@ std::string csvLine(const IterationStats& s) {
 }
 
 /// Marginal covariances of the non-fixed vertices (of `tag`, when given) to `path`.
-int writeMarginals(Graph& graph, const TypeRegistry& types, const std::string& path,
+int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
                    const std::string& tag) {
+  const TypeRegistry& types = reg.types;
   std::vector<VertexId> ids;
   for (const auto& [id, v] : graph.vertices()) {
     const std::string* t = types.tagOf(*v);
     if (!v->fixed() && (tag.empty() || (t && *t == tag))) ids.push_back(id);
   }
-  MarginalCovariance marginals;
+  MarginalCovariance::Options options;
+  options.solvers = &reg.solvers;
+  MarginalCovariance marginals(options);
   const MarginalSummary summary = marginals.compute(graph, ids);
   std::cout << summary.report() << "\n";
   if (!summary.ok()) {
@@ -326,7 +329,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   }
   if (!o.plot.empty()) plotOptimized(o, summary, graph, initial_positions, in.ground_truth);
   if (!o.marginals_file.empty())
-    exitWithoutFreeing(writeMarginals(graph, reg.types, o.marginals_file, o.marginals_tag));
+    exitWithoutFreeing(writeMarginals(graph, reg, o.marginals_file, o.marginals_tag));
   exitWithoutFreeing(kExitOk);
 }
 

@@ -4,10 +4,10 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
-#include "graphslam/core/block_ordering.h"
 #include "graphslam/core/error.h"
 #include "hessian_structure.h"
 #include "timing.h"
@@ -85,14 +85,21 @@ struct MarginalCovariance::Impl {
   std::vector<int> slot_of;  // scratch: position of a row inside the current column
   std::vector<double> z;
 
-  void rebuild(Graph& graph) {
+  void rebuild(Graph& graph, const Options& options) {
     structure.build(graph);
     column_of.clear();
     const auto& vertices = structure.activeVertices();
     for (std::size_t b = 0; b < vertices.size(); ++b)
       column_of.emplace(vertices[b]->id(), structure.blockStarts()[b]);
     const int n = structure.dimension();
-    order = n > 0 ? blockAmdOrdering(structure.sparseStructure()) : std::vector<int>{};
+    const SolverRegistry::OrderingFunction* ordering =
+        options.solvers ? options.solvers->ordering(options.ordering) : nullptr;
+    if (ordering && n > 0) {
+      order = (*ordering)(structure.sparseStructure());
+    } else {
+      order.resize(static_cast<std::size_t>(n));
+      std::iota(order.begin(), order.end(), 0);
+    }
     p.resize(n);
     for (int k = 0; k < n; ++k) p.indices()[order[k]] = k;
     pattern_done = false;
@@ -223,9 +230,9 @@ struct MarginalCovariance::Impl {
   /// Builds the structure (when stale), linearises and factorises H at the current
   /// estimates. False, with the summary's failure set, when a vertex group has no anchor
   /// or H is not positive definite.
-  bool factorizeAt(Graph& graph, MarginalSummary& summary) {
+  bool factorizeAt(Graph& graph, const Options& options, MarginalSummary& summary) {
     const auto t0 = Clock::now();
-    if (built_for != &graph || structure.stale(graph)) rebuild(graph);
+    if (built_for != &graph || structure.stale(graph)) rebuild(graph, options);
     const int n = structure.dimension();
     summary.system_dimension = n;
     for (const auto& group : structure.unanchoredGroups()) {
@@ -360,7 +367,7 @@ MarginalSummary MarginalCovariance::compute(
     return summary;
   }
 
-  if (!im.factorizeAt(graph, summary)) {
+  if (!im.factorizeAt(graph, options_, summary)) {
     summary.total_time = seconds(t_start, Clock::now());
     return summary;
   }

@@ -247,4 +247,16 @@ std::vector<const SolverRegistry::Entry*> SolverRegistry::entries() const {
   return out;
 }
 
+void SolverRegistry::registerOrdering(Ordering ordering, OrderingFunction function) {
+  if (!function) throw RegistryError(std::string("null ordering function for ") + toString(ordering));
+  if (!orderings_.emplace(ordering, std::move(function)).second) {
+    throw RegistryError(std::string("ordering ") + toString(ordering) + " is already registered");
+  }
+}
+
+const SolverRegistry::OrderingFunction* SolverRegistry::ordering(Ordering ordering) const {
+  const auto it = orderings_.find(ordering);
+  return it == orderings_.end() ? nullptr : &it->second;
+}
+
 }  // namespace graphslam

@@ -76,7 +76,8 @@ void expectValueSize(const Event& event, int n) {
 
 DriveBotSlamSystem::DriveBotSlamSystem(const SolverRegistry& solvers, SlamSystemOptions options)
     : options_(std::move(options)),
-      optimizer_(std::make_unique<Optimizer>(graph_, solvers, options_.optimizer)) {
+      optimizer_(std::make_unique<Optimizer>(graph_, solvers, options_.optimizer)),
+      marginals_(MarginalCovariance::Options{true, &solvers, Ordering::kAmd}) {
   if (options_.optimize_every < 0) throw Error("DriveBot SLAM: optimize_every must be >= 0");
   if (options_.max_iterations < 1) throw Error("DriveBot SLAM: max_iterations must be >= 1");
   if (options_.prune_every < 1) throw Error("DriveBot SLAM: prune_every must be >= 1");

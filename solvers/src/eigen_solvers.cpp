@@ -8,6 +8,7 @@
 
 #include "common.h"
 #include "factories.h"
+#include "graphslam/solvers/ordering.h"
 #include "graphslam/solvers/register.h"
 #include "ordering.h"
 
@@ -301,6 +302,9 @@ std::unique_ptr<detail::OrderedSolver> makeEigenLdlt() {
 
 void registerEigenSolvers(SolverRegistry& registry, const SolverOptions& options) {
   const auto orderings = detail::availableOrderings();
+  for (Ordering o : orderings) {
+    registry.registerOrdering(o, [o](const SparseStructure& s) { return fillReducingOrdering(o, s); });
+  }
   registry.registerSolver(
       "eigen-ldlt", "Eigen SimplicialLDLT on H (ordering on the block graph)",
       SystemForm::kNormalEquations, orderings, [options](const LinearSolverOptions& o) {

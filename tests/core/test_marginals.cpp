@@ -25,6 +25,19 @@ using namespace graphslam;
 
 namespace {
 
+/// Marginals ordered by the solvers module's block AMD (registered in a SolverRegistry).
+MarginalCovariance::Options amdOrdered(bool fix_gauge = true) {
+  static const SolverRegistry registry = [] {
+    SolverRegistry r;
+    solvers::registerSolvers(r);
+    return r;
+  }();
+  MarginalCovariance::Options o;
+  o.fix_gauge = fix_gauge;
+  o.solvers = &registry;
+  return o;
+}
+
 /// Dense inverse of the independently assembled H.
 struct DenseReference {
   std::map<VertexId, int> column;
@@ -139,7 +152,7 @@ MarginalSummary checkAllBlocksAndSomeCrossBlocks(
     EXPECT_FALSE(g.vertex(a)->edges().empty()) << a;
     EXPECT_FALSE(g.vertex(b)->edges().empty()) << b;
   }
-  MarginalCovariance marginals;
+  MarginalCovariance marginals(amdOrdered());
   const MarginalSummary summary = marginals.compute(g, ids, pairs);
   EXPECT_TRUE(summary.ok()) << summary.report();
   if (!summary.ok()) return summary;
@@ -177,10 +190,10 @@ TEST(Core_Marginals, DriveBotGraphMatchesDenseInverse) {
 
 TEST(Core_Marginals, SubsetOfVerticesGivesTheSameBlocks) {
   Graph g = slam2dGraph(80, 10, 4);
-  MarginalCovariance all;
+  MarginalCovariance all(amdOrdered());
   ASSERT_TRUE(all.computeAll(g).ok());
   for (VertexId id : {1, 17, 42, 79, 85}) {
-    MarginalCovariance one;
+    MarginalCovariance one(amdOrdered());
     const MarginalSummary s = one.compute(g, {id});
     ASSERT_TRUE(s.ok()) << s.report();
     EXPECT_LE((one.block(id) - all.block(id)).cwiseAbs().maxCoeff(), 1e-12) << id;
@@ -190,10 +203,27 @@ TEST(Core_Marginals, SubsetOfVerticesGivesTheSameBlocks) {
   }
 }
 
+TEST(Core_Marginals, NaturalOrderWithoutARegistryGivesTheSameBlocks) {
+  // Without a registry of orderings H is factorised in the id order: more fill, the same
+  // covariances to rounding.
+  Graph g = slam2dGraph(80, 10, 4);
+  MarginalCovariance amd(amdOrdered());
+  MarginalCovariance natural;
+  const MarginalSummary sa = amd.computeAll(g);
+  const MarginalSummary sn = natural.computeAll(g);
+  ASSERT_TRUE(sa.ok() && sn.ok());
+  EXPECT_LT(sa.factor_nonzeros, sn.factor_nonzeros);
+  for (const auto& [id, block] : amd.blocks()) {
+    EXPECT_LE((natural.block(id) - block).cwiseAbs().maxCoeff(),
+              1e-9 * std::max(1.0, block.cwiseAbs().maxCoeff()))
+        << id;
+  }
+}
+
 TEST(Core_Marginals, GaugeIsFixedAtTheLowestIdWhenNothingAnchorsTheGraph) {
   Graph g = slam2dGraph(30, 0, 5);
   ASSERT_FALSE(g.vertex(0)->fixed());
-  MarginalCovariance marginals;
+  MarginalCovariance marginals(amdOrdered());
   const MarginalSummary s = marginals.computeAll(g);
   ASSERT_TRUE(s.ok()) << s.report();
   ASSERT_EQ(s.gauge_fixed, std::vector<VertexId>{0});
@@ -205,7 +235,7 @@ TEST(Core_Marginals, GaugeIsFixedAtTheLowestIdWhenNothingAnchorsTheGraph) {
     expectClose(marginals.block(id), ref.block(g, id, id), 1.0, std::to_string(id));
   }
 
-  MarginalCovariance no_gauge(MarginalCovariance::Options{false});
+  MarginalCovariance no_gauge(amdOrdered(false));
   g.vertex(0)->setFixed(false);
   const MarginalSummary bad = no_gauge.computeAll(g);
   EXPECT_EQ(bad.status, MarginalStatus::kSingular);
@@ -219,7 +249,7 @@ TEST(Core_Marginals, ErrorsNameTheVertices) {
   auto lonely = std::make_unique<VertexVehicle>();
   lonely->setId(500);
   g.addVertex(std::move(lonely));
-  MarginalCovariance marginals;
+  MarginalCovariance marginals(amdOrdered());
   MarginalSummary s = marginals.compute(g, {3, 500});
   EXPECT_EQ(s.status, MarginalStatus::kUnconstrained);
   EXPECT_EQ(s.bad_vertices, std::vector<VertexId>{500});
@@ -265,7 +295,7 @@ TEST(Core_Marginals, OptimizerIsUnaffectedByMarginalsInBetween) {
   (void)oa.optimize();
   (void)ob.optimize();
   a.vertex(0)->setFixed(true);  // different fixed set in the marginals: indices shift
-  MarginalCovariance m;
+  MarginalCovariance m(amdOrdered());
   ASSERT_TRUE(m.computeAll(a).ok());
   a.vertex(0)->setFixed(false);
   const Summary sa = oa.optimize();
@@ -283,7 +313,7 @@ TEST(Core_Marginals, OptimizerIsUnaffectedByMarginalsInBetween) {
 
 TEST(Core_Marginals, GrowingGraphReusesAndRebuildsTheStructure) {
   Graph g = drivebotGraph(true);
-  MarginalCovariance m;
+  MarginalCovariance m(amdOrdered());
   ASSERT_TRUE(m.computeAll(g).ok());
   ASSERT_TRUE(m.computeAll(g).ok());  // unchanged structure
   // Grow by one state and a kinematics edge.
@@ -311,7 +341,7 @@ namespace {
 TEST(Core_Marginals, OneObjectServesTwoGraphs) {
   Graph a = slam2dGraph(40, 0, 7);
   Graph b = slam2dGraph(40, 0, 8);  // same sizes and versions, different edges
-  MarginalCovariance m;
+  MarginalCovariance m(amdOrdered());
   ASSERT_TRUE(m.computeAll(a).ok());
   ASSERT_TRUE(m.computeAll(b).ok());
   b.vertex(0)->setFixed(true);

@@ -216,7 +216,9 @@ TEST_P(Datasets_Marginals, AllBlocksMatchIndependentSolves) {
   Optimizer optimizer(g, solvers);
   ASSERT_TRUE(optimizer.optimize().succeeded());
 
-  MarginalCovariance marginals;
+  MarginalCovariance::Options marginal_options;
+  marginal_options.solvers = &solvers;
+  MarginalCovariance marginals(marginal_options);
   const MarginalSummary s = marginals.computeAll(g);
   ASSERT_TRUE(s.ok()) << s.report();
   ASSERT_EQ(s.gauge_fixed.size(), 1u);

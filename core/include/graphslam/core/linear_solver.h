@@ -181,6 +181,15 @@ class SolverRegistry {
                       SimpleFactory factory);
   void setOrigin(std::string origin) { origin_ = std::move(origin); }
 
+  /// A fill-reducing ordering of a system's columns: perm[k] = original column placed at
+  /// position k. Registered by the solvers module (its block orderings), used by whoever
+  /// factorises a system outside a LinearSolver (the marginal covariances).
+  using OrderingFunction = std::function<std::vector<int>(const SparseStructure&)>;
+  /// Throws RegistryError when `ordering` already has one or `function` is null.
+  void registerOrdering(Ordering ordering, OrderingFunction function);
+  /// The registered function of `ordering`, or null.
+  [[nodiscard]] const OrderingFunction* ordering(Ordering ordering) const;
+
   /// Whether `spec` ("name" or "name:ordering") names a registered solver and an
   /// ordering it accepts.
   [[nodiscard]] bool contains(const std::string& spec) const;
@@ -194,6 +203,7 @@ class SolverRegistry {
 
  private:
   std::map<std::string, Entry> entries_;
+  std::map<Ordering, OrderingFunction> orderings_;
   std::string origin_;
 };
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
 
 namespace graphslam {
 
@@ -52,7 +53,8 @@ struct MarginalSummary {
 /// posterior around them). Covariances are in each vertex's tangent space (the `plus`
 /// update), in the vertex's dimension order.
 ///
-/// H is factorised as P H P^T = L D L^T (Eigen's simplicial LDL^T, P a block AMD ordering);
+/// H is factorised as P H P^T = L D L^T (Eigen's simplicial LDL^T, P the fill-reducing
+/// block ordering of Options::solvers);
 /// the entries of H^-1 on the pattern of L are then computed by the Takahashi recursion
 /// (the selected inverse, as g2o's MarginalCovarianceCholesky), only for the columns
 /// the requested blocks need: the elimination-tree ancestors of their columns. No dense
@@ -70,6 +72,12 @@ class MarginalCovariance {
     /// As Optimizer::Options::fix_gauge: with no fixed vertex and no unary edge, fix the
     /// lowest id during the computation (reported in MarginalSummary::gauge_fixed).
     bool fix_gauge = true;
+    /// H is factorised in the fill-reducing order `ordering` that this registry provides
+    /// (solvers::registerEigenSolvers registers the solvers module's block orderings);
+    /// without a registry, or when it has none for `ordering`, in the natural (id) order,
+    /// which fills L far more on graphs with loop closures.
+    const SolverRegistry* solvers = nullptr;
+    Ordering ordering = Ordering::kAmd;
   };
 
   MarginalCovariance();
@@ -80,8 +88,7 @@ class MarginalCovariance {
 
   /// Computes the covariance blocks of `vertex_ids` and the cross blocks of `cross_pairs`
   /// (a, b) at the current estimates. Re-linearises every edge (the edges' stored
-  /// Jacobians change; estimates, fixed flags and the vertices' Hessian indices are left
-  /// as they were). Throws graphslam::Error when an id is not in the graph. Numerical
+  /// Jacobians change; estimates and fixed flags are left as they were). Throws graphslam::Error when an id is not in the graph. Numerical
   /// failures are reported in the summary, naming vertex ids; the previous results are
   /// cleared either way.
   [[nodiscard]] MarginalSummary compute(
