@@ -16,9 +16,9 @@ enum class Algorithm {
   kLevenbergMarquardt,  ///< damped steps, Nielsen's lambda update (as g2o)
   /// The default. Gauss-Newton steps, accepted even when chi2 rises for a while (up to
   /// Options::fallback_patience steps in a row without a new best); then back to the best
-  /// estimate, and Levenberg-Marquardt from there. Chord steps: after a step that lowered
-  /// chi2 by less than 1e-4 of it, or that agreed with its quadratic model within 5 % when
-  /// the factor is dense enough, the next step first solves the new system by conjugate
+  /// estimate, and Levenberg-Marquardt from there. Chord steps (Options::chord_steps): after
+  /// a step that lowered chi2 by very little, or that agreed closely with its quadratic
+  /// model when the factor is dense enough, the next step first solves the new system by conjugate
   /// gradients preconditioned with the last factorisation; it is kept when it lowers chi2,
   /// and chord steps follow one another while their iterations reach their tolerance.
   kGaussNewtonFallback,
