@@ -24,9 +24,20 @@ namespace graphslam::test {
 template <typename E, typename Make>
 void expectAnalyticJacobians(Make make, unsigned seed, int trials) {
   std::mt19937 rng(seed);
+  int near_wrap = 0;
   for (int trial = 0; trial < trials; ++trial) {
     Graph g;
     E* e = make(g, rng);
+    // An angular error within a step of +-pi wraps between the two central differences:
+    // the numeric derivative is meaningless there (which trials land there depends on the
+    // compiler's rounding), so such a trial is drawn again.
+    e->computeError();
+    const Eigen::Map<const Eigen::VectorXd> error(e->errorData(), e->dimension());
+    if ((error.array().abs() - 3.14159265358979323846).abs().minCoeff() < 1e-4) {
+      ASSERT_LT(++near_wrap, trials / 10 + 1) << "too many trials at the angle wrap";
+      --trial;
+      continue;
+    }
     const std::string problem = checkJacobians(*e, g, 1e-6);
     ASSERT_TRUE(problem.empty()) << "trial " << trial << ": " << problem;
     e->computeError();

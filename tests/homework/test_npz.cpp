@@ -120,7 +120,9 @@ TEST(Core_Npz, UnsupportedAndCorruptMembersNameFileAndArray) {
       {"object", "element type '|O' is not supported"},
       {"i8_too_big", "int64 value 9007199254740993 has no exact double"},
   };
-  for (const auto& [name, message] : cases) {
+  for (const auto& c : cases) {
+    const std::string& name = c.first;  // not a structured binding: the lambda captures it
+    const std::string& message = c.second;
     const std::string e = errorOf([&] { (void)npz.read(name); });
     EXPECT_EQ(e.rfind(prefix + name + "': ", 0), 0u) << name << ": " << e;
     EXPECT_NE(e.find(message), std::string::npos) << name << ": " << e;

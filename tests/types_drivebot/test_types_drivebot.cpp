@@ -157,7 +157,7 @@ template <typename E>
 class TypesDrivebot_Edge : public ::testing::Test {};
 using EdgeTypes = ::testing::Types<EdgeVehicleKinematics, EdgeGps, EdgeCompass,
                                    EdgeLandmarkRangeBearing, EdgeVehiclePrior>;
-TYPED_TEST_SUITE(TypesDrivebot_Edge, EdgeTypes);
+TYPED_TEST_SUITE(TypesDrivebot_Edge, EdgeTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(TypesDrivebot_Edge, AnalyticJacobianMatchesNumeric) {
   graphslam::test::expectAnalyticJacobians<TypeParam>(EdgeFactory<TypeParam>::make, 2024, 1000);

@@ -172,7 +172,7 @@ template <typename E>
 class TypesSlam2d_Edge : public ::testing::Test {};
 using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY,
                                    EdgeXYBearingRange, EdgePriorXY>;
-TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes);
+TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
   graphslam::test::expectAnalyticJacobians<TypeParam>(EdgeFactory<TypeParam>::make, 1234, 500);
