@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The graphslam command-line tool: subcommands over the library. No library logic here.
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -195,6 +196,19 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   if (o.iterations < 1) throw UsageError("--iterations must be at least 1");
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");
+  }
+  // Written so that NaN fails too.
+  if (!(options.initial_lambda_factor > 0 && std::isfinite(options.initial_lambda_factor))) {
+    throw UsageError("--lambda-init must be a positive finite number");
+  }
+  if (!(options.min_lambda_decrease > 0 && options.min_lambda_decrease <= 1)) {
+    throw UsageError("--lambda-decrease must be in (0, 1]");
+  }
+  if (!(options.function_tolerance >= 0 && std::isfinite(options.function_tolerance))) {
+    throw UsageError("--function-tolerance must be a finite number >= 0");
+  }
+  if (!(options.step_tolerance >= 0 && std::isfinite(options.step_tolerance))) {
+    throw UsageError("--step-tolerance must be a finite number >= 0");
   }
   options.damping = parseChoice<Optimizer::Options::Damping>(
       "damping", o.damping,
@@ -429,6 +443,11 @@ int cmdSimulate(const std::vector<std::string>& args) {
   }
   if (output.empty()) throw UsageError("simulate needs -o OUT.g2o");
   if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
+  if (sim.num_landmarks < 0) throw UsageError("--landmarks must be at least 0");
+  if (sim.world_size < 0) throw UsageError("--world-size must be at least 0 (0: automatic)");
+  if (!truth.empty() && truth == output) {
+    throw UsageError("--truth and -o name the same file, " + output);
+  }
   Registries reg;
   loadRegistries(reg, {});
   auto result = simulation::simulateManhattan(sim);

@@ -7,7 +7,9 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cerrno>
 #include <condition_variable>
+#include <cstring>
 #include <deque>
 #include <exception>
 #include <fstream>
@@ -24,7 +26,9 @@
 
 namespace graphslam::io {
 
-std::string Diagnostic::str() const { return file + ":" + std::to_string(line) + ": " + message; }
+std::string Diagnostic::str() const {
+  return line > 0 ? file + ":" + std::to_string(line) + ": " + message : file + ": " + message;
+}
 
 namespace {
 
@@ -52,13 +56,37 @@ void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
   }
 }
 
-std::string quote(std::string_view token) { return "'" + std::string(token) + "'"; }
+/// `token` in quotes for a message: bytes that would not show (control characters,
+/// non-ASCII: binary or UTF-16 input, a byte-order mark) as \xHH, and at most
+/// kQuotedBytes of it.
+std::string quote(std::string_view token) {
+  constexpr std::size_t kQuotedBytes = 40;
+  std::string out = "'";
+  for (std::size_t i = 0; i < token.size() && i < kQuotedBytes; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      out += {'\\', 'x', kHex[c >> 4], kHex[c & 15]};
+    }
+  }
+  out += token.size() > kQuotedBytes ? "'..." : "'";
+  if (token.substr(0, 3) == "\xEF\xBB\xBF") {
+    out += " (a UTF-8 byte-order mark: save the file without one)";
+  }
+  return out;
+}
 
 double parseDouble(std::string_view token, std::size_t index, std::string_view tag) {
   std::string_view t = token;
   if (!t.empty() && t.front() == '+') t.remove_prefix(1);
   double value = 0.0;
   auto res = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (res.ec == std::errc::result_out_of_range && res.ptr == t.data() + t.size()) {
+    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
+                    " is out of the range of a double"};
+  }
   if (res.ec != std::errc() || res.ptr != t.data() + t.size()) {
     throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
                     " is not a number"};
@@ -73,9 +101,16 @@ double parseDouble(std::string_view token, std::size_t index, std::string_view t
 VertexId parseId(std::string_view token, std::size_t index, std::string_view tag) {
   long long value = 0;
   auto res = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (res.ec != std::errc() || res.ptr != token.data() + token.size() ||
-      value < std::numeric_limits<VertexId>::min() ||
-      value > std::numeric_limits<VertexId>::max()) {
+  const bool whole = res.ptr == token.data() + token.size();
+  if (whole && (res.ec == std::errc::result_out_of_range ||
+                (res.ec == std::errc() && (value < std::numeric_limits<VertexId>::min() ||
+                                           value > std::numeric_limits<VertexId>::max())))) {
+    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
+                    " is out of the range of vertex ids (" +
+                    std::to_string(std::numeric_limits<VertexId>::min()) + " to " +
+                    std::to_string(std::numeric_limits<VertexId>::max()) + ")"};
+  }
+  if (res.ec != std::errc() || !whole) {
     throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
                     " is not a vertex id (an integer)"};
   }
@@ -461,8 +496,31 @@ class Reader {
                ", which is not defined before this line";
       }
     }
+    if (const std::string slot = wrongSlotMessage(tag); !slot.empty()) return slot;
     if (message.rfind("addEdge: ", 0) == 0) return tag + ": " + message.substr(9);
     return message;
+  }
+
+  /// For an edge refused because a vertex has the wrong type: which vertex, its tag and
+  /// the tags the slot takes (from the registry); empty when every slot accepts its vertex.
+  std::string wrongSlotMessage(const std::string& tag) const {
+    const TypeRegistry::Entry* entry = types_.find(tag);
+    if (!entry || entry->kind != TypeRegistry::Kind::kEdge) return {};
+    const auto probe = entry->make_edge();
+    for (std::size_t slot = 0; slot < ids_.size(); ++slot) {
+      const Vertex* v = result_.graph.vertex(ids_[slot]);
+      if (!v || probe->acceptsVertex(slot, *v)) continue;
+      std::string takes;
+      for (const TypeRegistry::Entry* e : types_.entries()) {
+        if (e->kind != TypeRegistry::Kind::kVertex) continue;
+        if (probe->acceptsVertex(slot, *e->make_vertex())) takes += (takes.empty() ? "" : " or ") + e->tag;
+      }
+      const std::string* is = types_.tagOf(*v);
+      return tag + ": vertex " + std::to_string(ids_[slot]) + " has the wrong type for slot " +
+             std::to_string(slot) + ": it is a " + (is ? *is : std::string("vertex of no registered tag")) +
+             ", the slot takes " + (takes.empty() ? std::string("no registered vertex type") : takes);
+    }
+    return {};
   }
 
   /// Line of the vertex `id` (read earlier). Only a duplicate's message needs it: the
@@ -494,11 +552,14 @@ LoadResult readG2o(std::istream& in, const std::string& name, const TypeRegistry
 }
 
 LoadResult loadG2o(const std::string& path, const TypeRegistry& types, const LoadOptions& options) {
+  errno = 0;
   std::ifstream in(path);
   if (!in) {
+    const int reason = errno;
     LoadResult result;
     result.failed = true;
-    result.diagnostics.push_back({path, 0, "cannot open file"});
+    result.diagnostics.push_back(
+        {path, 0, std::string("cannot open: ") + (reason ? std::strerror(reason) : "unknown reason")});
     return result;
   }
   return readG2o(in, path, types, options);

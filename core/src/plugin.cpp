@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/core/plugin.h"
 
+#include <dlfcn.h>
+
 #include <boost/dll/shared_library.hpp>
 #include <algorithm>
 #include <cstdlib>
@@ -11,6 +13,22 @@
 #include "graphslam/core/error.h"
 
 namespace graphslam {
+
+namespace {
+
+/// The dynamic loader's own reason why `path` does not load (missing file, not a shared
+/// object, unresolved symbol, ...), else `fallback`.
+std::string loadFailure(const std::string& path, const std::string& fallback) {
+  dlerror();  // clears an earlier message
+  if (void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL)) {
+    dlclose(handle);
+    return fallback;
+  }
+  const char* reason = dlerror();
+  return reason ? reason : fallback;
+}
+
+}  // namespace
 
 struct Plugin::Impl {
   boost::dll::shared_library library;
@@ -26,7 +44,7 @@ std::unique_ptr<Plugin> Plugin::load(const std::string& path, TypeRegistry& type
   auto impl = std::make_unique<Impl>();
   boost::dll::fs::error_code ec;
   impl->library.load(path, boost::dll::load_mode::default_mode, ec);
-  if (ec) throw Error("plugin '" + path + "': cannot load: " + ec.message());
+  if (ec) throw Error("plugin '" + path + "': cannot load: " + loadFailure(path, ec.message()));
   if (!impl->library.has(GRAPHSLAM_PLUGIN_ENTRY)) {
     throw Error("plugin '" + path +
                 "': no symbol '" GRAPHSLAM_PLUGIN_ENTRY "' (declare it extern \"C\")");

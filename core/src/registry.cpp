@@ -1,5 +1,9 @@
 // SPDX-License-Identifier: MIT
+#include <cxxabi.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <memory>
 #include <cctype>
 
 #include "graphslam/core/error.h"
@@ -257,6 +261,13 @@ void SolverRegistry::registerOrdering(Ordering ordering, OrderingFunction functi
 const SolverRegistry::OrderingFunction* SolverRegistry::ordering(Ordering ordering) const {
   const auto it = orderings_.find(ordering);
   return it == orderings_.end() ? nullptr : &it->second;
+}
+
+std::string typeName(const std::type_info& type) {
+  int status = 0;
+  const std::unique_ptr<char, void (*)(void*)> name(
+      abi::__cxa_demangle(type.name(), nullptr, nullptr, &status), std::free);
+  return status == 0 && name ? std::string(name.get()) : std::string(type.name());
 }
 
 }  // namespace graphslam

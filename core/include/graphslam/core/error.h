@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 
 namespace graphslam {
 
@@ -26,5 +27,9 @@ class InputError : public Error {
  public:
   using Error::Error;
 };
+
+/// The C++ name of `type` as written in code (demangled), for messages about types that no
+/// registry names (a .g2o tag is the better name where there is one).
+[[nodiscard]] std::string typeName(const std::type_info& type);
 
 }  // namespace graphslam

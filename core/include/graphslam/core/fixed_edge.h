@@ -102,7 +102,7 @@ class FixedEdge : public Edge {
     try {
       error_ = evaluateAtCurrent(std::make_integer_sequence<int, kArity>{});
     } catch (const detail::EvaluateNotProvided&) {
-      throw Error(std::string("edge type ") + typeid(*this).name() +
+      throw Error("edge type " + typeName(typeid(*this)) +
                   " overrides neither evaluate() nor computeError()");
     }
   }
@@ -165,7 +165,7 @@ class FixedEdge : public Edge {
     std::string name;
     detail::staticFor<kArity>([&](auto ic) {
       constexpr int I = decltype(ic)::value;
-      if (static_cast<std::size_t>(I) == slot) name = typeid(VertexXi<I>).name();
+      if (static_cast<std::size_t>(I) == slot) name = typeName(typeid(VertexXi<I>));
     });
     return name;
   }

@@ -15,7 +15,7 @@ struct Diagnostic {
   std::string file;
   int line = 0;
   std::string message;
-  /// `FILE:LINE: message`
+  /// `FILE:LINE: message`, or `FILE: message` for the file as a whole (line 0).
   [[nodiscard]] std::string str() const;
 };
 
@@ -51,7 +51,8 @@ struct LoadResult {
 /// see Vertex/Edge::parameterDataDimension; most types have none). Checks: unknown tag, wrong
 /// number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex, vertex
 /// of the wrong type, information matrix not positive definite, a parameter the type refuses. Never
-/// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0.
+/// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0 and
+/// the system's reason.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
                                  const LoadOptions& options = {});
 /// Same, from a stream; `name` is used in diagnostics.
