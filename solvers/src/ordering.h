@@ -23,6 +23,10 @@ struct BlockGraph {
 /// Block graph of J^T J (columns sharing a row are adjacent).
 [[nodiscard]] BlockGraph blockGraph(const JacobianStructure& s);
 
+/// AMD on the block graph; `block_work` (if given) receives AMD's own count of the
+/// factor's work (block_amd.cpp), or -1 when there is none.
+[[nodiscard]] std::vector<int> amdBlocks(const BlockGraph& g, double* block_work = nullptr);
+
 /// Orderings this build can compute (METIS needs CHOLMOD).
 [[nodiscard]] std::vector<Ordering> availableOrderings();
 
