@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 std::string ownPluginDirectory() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) throw Error("cannot find the graphslam tool's own path (/proc/self/exe): " + ec.message());
+  if (ec)
+    throw Error("cannot find the graphslam tool's own path (/proc/self/exe): " + ec.message());
   const fs::path candidates[] = {exe.parent_path() / GRAPHSLAM_INSTALLED_PLUGINS_FROM_TOOL,
                                  exe.parent_path() / GRAPHSLAM_BUILD_PLUGINS_FROM_TOOL};
   for (const auto& dir : candidates) {

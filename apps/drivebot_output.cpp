@@ -9,8 +9,8 @@
 #include <sstream>
 #include <vector>
 
-#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/graph_checks.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
 
 namespace graphslam::apps {

@@ -35,9 +35,9 @@ struct InputOptions {
 struct LoadedInput {
   Graph graph;
   std::string path;
-  std::string format;              ///< "g2o" or "npz"
-  std::string description;         ///< one line on what was read (for the user)
-  std::vector<std::string> notes;  ///< further lines worth printing (model choice, ...)
+  std::string format;                       ///< "g2o" or "npz"
+  std::string description;                  ///< one line on what was read (for the user)
+  std::vector<std::string> notes;           ///< further lines worth printing (model choice, ...)
   homework::PointGroundTruth ground_truth;  ///< empty unless the file has one
   /// The file's estimates are a deliberate initial guess that the tool's default
   /// initialisation must keep (.npz: the homework's); false for .g2o files, which get

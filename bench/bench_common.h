@@ -22,10 +22,10 @@
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/init/initialization.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
 
 namespace graphslam::bench {

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/core/edge.h"
 #include "graphslam/core/graph.h"
+#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_solver.h"
 

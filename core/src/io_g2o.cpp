@@ -5,9 +5,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cerrno>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
@@ -513,12 +513,14 @@ class Reader {
       std::string takes;
       for (const TypeRegistry::Entry* e : types_.entries()) {
         if (e->kind != TypeRegistry::Kind::kVertex) continue;
-        if (probe->acceptsVertex(slot, *e->make_vertex())) takes += (takes.empty() ? "" : " or ") + e->tag;
+        if (probe->acceptsVertex(slot, *e->make_vertex()))
+          takes += (takes.empty() ? "" : " or ") + e->tag;
       }
       const std::string* is = types_.tagOf(*v);
       return tag + ": vertex " + std::to_string(ids_[slot]) + " has the wrong type for slot " +
-             std::to_string(slot) + ": it is a " + (is ? *is : std::string("vertex of no registered tag")) +
-             ", the slot takes " + (takes.empty() ? std::string("no registered vertex type") : takes);
+             std::to_string(slot) + ": it is a " +
+             (is ? *is : std::string("vertex of no registered tag")) + ", the slot takes " +
+             (takes.empty() ? std::string("no registered vertex type") : takes);
     }
     return {};
   }
@@ -559,7 +561,8 @@ LoadResult loadG2o(const std::string& path, const TypeRegistry& types, const Loa
     LoadResult result;
     result.failed = true;
     result.diagnostics.push_back(
-        {path, 0, std::string("cannot open: ") + (reason ? std::strerror(reason) : "unknown reason")});
+        {path, 0,
+         std::string("cannot open: ") + (reason ? std::strerror(reason) : "unknown reason")});
     return result;
   }
   return readG2o(in, path, types, options);

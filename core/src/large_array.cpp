@@ -30,7 +30,8 @@ class Retained {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
       limits_ = limits;
-      while (!kept_.empty() && (kept_.size() > limits_.max_mappings || bytes_ > limits_.max_bytes)) {
+      while (!kept_.empty() &&
+             (kept_.size() > limits_.max_mappings || bytes_ > limits_.max_bytes)) {
         release.push_back(kept_.front());
         bytes_ -= kept_.front().second;
         kept_.erase(kept_.begin());

@@ -168,19 +168,32 @@ Eigen::Matrix2d vecMatrix(const Eigen::Vector2d& v) {
   return m;
 }
 
+/// What the initialisation works on: the poses reached by relative-pose edges, in id order
+/// (the optimizer's order of blocks: large graphs then share one fill-reducing ordering with
+/// it), each edge's two pose indices, and the priors and landmark observations on them.
+struct Problem {
+  std::vector<VertexSE2*> poses;
+  std::vector<const EdgeSE2*> relative;
+  std::vector<std::pair<int, int>> ends;  ///< (first pose, second pose) of each relative edge
+  std::vector<std::pair<const EdgePriorSE2*, int>> priors;
+  std::vector<std::pair<const EdgeSE2XY*, int>> observations;
+  std::vector<char> anchored;  ///< per pose: fixed, or has a prior
+  [[nodiscard]] int size() const { return static_cast<int>(poses.size()); }
+};
+
 /// Step 1 of initializeGlobal with landmark observations (see there): orientations,
 /// translations and landmarks in one linear system, the rotations relaxed to free vectors;
 /// the weights are the angular information and the translational ones made isotropic (their
 /// mean eigenvalue: the frame of r_i is not known yet). Updates theta of the free poses
 /// (var >= 0); false when the system is singular.
-bool jointOrientations(const std::vector<VertexSE2*>& poses,
-                       const std::vector<const EdgeSE2*>& relative,
-                       const std::vector<std::pair<int, int>>& ends,
-                       const std::vector<std::pair<const EdgeSE2XY*, int>>& observations,
-                       const std::vector<int>& obs_landmark, int num_landmarks,
-                       const std::vector<std::pair<const EdgePriorSE2*, int>>& priors,
+bool jointOrientations(const Problem& p, const std::vector<int>& obs_landmark, int num_landmarks,
                        const std::vector<int>& var, int nv, std::vector<double>& theta,
                        SpdSolver& spd) {
+  const auto& poses = p.poses;
+  const auto& relative = p.relative;
+  const auto& ends = p.ends;
+  const auto& observations = p.observations;
+  const auto& priors = p.priors;
   // Unknowns (2-vectors): t_i at var[i], r_i at nv + var[i], free landmarks from 2 nv.
   const int unknowns = 2 * nv + num_landmarks;
   std::vector<int> obs_lm(observations.size(), -1);
@@ -249,19 +262,6 @@ bool jointOrientations(const std::vector<VertexSE2*>& poses,
   }
   return true;
 }
-
-/// What the initialisation works on: the poses reached by relative-pose edges, in id order
-/// (the optimizer's order of blocks: large graphs then share one fill-reducing ordering with
-/// it), each edge's two pose indices, and the priors and landmark observations on them.
-struct Problem {
-  std::vector<VertexSE2*> poses;
-  std::vector<const EdgeSE2*> relative;
-  std::vector<std::pair<int, int>> ends;  ///< (first pose, second pose) of each relative edge
-  std::vector<std::pair<const EdgePriorSE2*, int>> priors;
-  std::vector<std::pair<const EdgeSE2XY*, int>> observations;
-  std::vector<char> anchored;  ///< per pose: fixed, or has a prior
-  [[nodiscard]] int size() const { return static_cast<int>(poses.size()); }
-};
 
 /// Index of each pose by its id, through a table over the graph's id range when the ids are
 /// dense enough (one array access per look-up), else through a hash map.
@@ -403,8 +403,8 @@ std::vector<VertexXY*> freeLandmarks(Graph& graph, const Problem& p,
 /// the free poses (var >= 0) from the relative-pose edges and priors alone. Updates theta;
 /// false when the system is singular.
 bool odometryOrientations(const Problem& p, const std::vector<int>& var, int nv,
-                          const std::vector<std::pair<int, int>>& pairs,
-                          std::vector<double>& theta, SpdSolver& spd) {
+                          const std::vector<std::pair<int, int>>& pairs, std::vector<double>& theta,
+                          SpdSolver& spd) {
   PairSystem sys(nv, pairs);
   Eigen::VectorXd& rhs = sys.rhs();
   for (std::size_t k = 0; k < p.relative.size(); ++k) {
@@ -440,8 +440,7 @@ bool odometryOrientations(const Problem& p, const std::vector<int>& var, int nv,
 
 /// Adds the residual (x_b - x_a) - d with 2x2 weight W to `sys`; -1 marks a known position.
 void addDifference(PairSystem& sys, int a, const Eigen::Vector2d& xa, int b,
-                   const Eigen::Vector2d& xb, const Eigen::Vector2d& d,
-                   const Eigen::Matrix2d& w) {
+                   const Eigen::Vector2d& xb, const Eigen::Vector2d& d, const Eigen::Matrix2d& w) {
   Eigen::VectorXd& rhs = sys.rhs();
   if (a >= 0) sys.add(a, a, w);
   if (b >= 0) sys.add(b, b, w);
@@ -552,8 +551,8 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
     if (var[i] >= 0 && var[j] >= 0) pairs.emplace_back(var[i], var[j]);
   }
   if (nv > 0 && !p.observations.empty()) {
-    if (!jointOrientations(p.poses, p.relative, p.ends, p.observations, obs_landmark,
-                           static_cast<int>(landmarks.size()), p.priors, var, nv, theta, spd)) {
+    if (!jointOrientations(p, obs_landmark, static_cast<int>(landmarks.size()), var, nv, theta,
+                           spd)) {
       report.message = "orientation system (with landmarks) is singular: initial estimates kept";
       return report;
     }
@@ -563,8 +562,7 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
-  if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta, spd,
-                      report)) {
+  if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta, spd, report)) {
     report.message = "position system is singular: initial estimates kept";
     return report;
   }

@@ -88,9 +88,9 @@ class MarginalCovariance {
 
   /// Computes the covariance blocks of `vertex_ids` and the cross blocks of `cross_pairs`
   /// (a, b) at the current estimates. Re-linearises every edge (the edges' stored
-  /// Jacobians change; estimates and fixed flags are left as they were). Throws graphslam::Error when an id is not in the graph. Numerical
-  /// failures are reported in the summary, naming vertex ids; the previous results are
-  /// cleared either way.
+  /// Jacobians change; estimates and fixed flags are left as they were). Throws graphslam::Error
+  /// when an id is not in the graph. Numerical failures are reported in the summary, naming vertex
+  /// ids; the previous results are cleared either way.
   [[nodiscard]] MarginalSummary compute(
       Graph& graph, const std::vector<VertexId>& vertex_ids,
       const std::vector<std::pair<VertexId, VertexId>>& cross_pairs = {});

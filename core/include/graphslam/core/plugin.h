@@ -55,8 +55,7 @@ inline constexpr const char* kPluginPathVariable = "GRAPHSLAM_PLUGIN_PATH";
 /// and when two plugins register the same name (the message names both files). The
 /// registries hold code of the plugins: destroy them, and every graph and solver made
 /// through them, before the plugins (declare the plugins first).
-[[nodiscard]] std::vector<std::unique_ptr<Plugin>> loadPlugins(const std::vector<std::string>& paths,
-                                                               TypeRegistry& types,
-                                                               SolverRegistry& solvers);
+[[nodiscard]] std::vector<std::unique_ptr<Plugin>> loadPlugins(
+    const std::vector<std::string>& paths, TypeRegistry& types, SolverRegistry& solvers);
 
 }  // namespace graphslam
