@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 
 #include "hessian_structure.h"
@@ -173,11 +174,17 @@ double LinearSystem::computeChi2(Graph& graph) {
                            [&](std::size_t begin, std::size_t end) {
                              for (std::size_t k = begin; k < end; ++k) {
                                edges[k]->computeError();
-                               chi2[k] = edges[k]->chi2();
+                               chi2[k] = edges[k]->robustChi2();
                              }
                            });
   double sum = 0.0;
   for (double c : chi2) sum += c;
+  return sum;
+}
+
+double LinearSystem::rawChi2(const Graph& graph) const {
+  double sum = 0.0;
+  for (const auto& e : graph.edges()) sum += e->chi2();
   return sum;
 }
 
@@ -228,7 +235,8 @@ void LinearSystem::assembleJacobian() {
     const int d = e->dimension();
     const SmallMatrix info = Eigen::Map<const Eigen::MatrixXd>(e->informationData(), d, d);
     const Eigen::Map<const Eigen::VectorXd> err(e->errorData(), d);
-    const SmallMatrix w = info.llt().matrixU();  // Omega = U^T U: W = U
+    SmallMatrix w = info.llt().matrixU();  // Omega = U^T U: W = U
+    if (e->robustKernel()) w *= std::sqrt(e->robustWeight());
     const SmallVector ew = w * err;
     const int r0 = im.edge_row_start[k];
     for (int i = 0; i < d; ++i) residual_[static_cast<std::size_t>(r0 + i)] = ew[i];

@@ -60,7 +60,12 @@ std::string Summary::report() const {
   s << "\nalgorithm:     " << toString(algorithm) << ", linear solver " << linear_solver
     << "\nproblem:       " << num_vertices << " free vertices, " << num_edges << " edges, "
     << system_dimension << " unknowns, nnz(H) " << hessian_nonzeros << ", nnz(L) "
-    << factor_nonzeros << "\nchi2:          " << initial_chi2 << " -> " << final_chi2
+    << factor_nonzeros << "\nchi2:          " << initial_chi2 << " -> " << final_chi2;
+  if (robust_edges > 0) {
+    s << "\nrobust cost:   " << initial_cost << " -> " << final_cost << " (" << robust_edges
+      << " edges with a robust kernel)";
+  }
+  s
     << "\niterations:    " << iterations;
   s.precision(4);
   s << "\ntime:          " << total_time << " s (linearize " << time.linearize << ", build "
@@ -134,7 +139,11 @@ Summary Optimizer::optimize() {
             ids);
   }
 
-  summary.initial_chi2 = im.evalChi2(graph_);
+  summary.initial_cost = im.evalChi2(graph_);
+  summary.final_cost = summary.initial_cost;
+  for (const auto& e : graph_.edges()) summary.robust_edges += e->robustKernel() ? 1 : 0;
+  summary.initial_chi2 =
+      summary.robust_edges > 0 ? im.structure.rawChi2(graph_) : summary.initial_cost;
   summary.final_chi2 = summary.initial_chi2;
   if (im.structure.dimension() == 0) {
     summary.status = TerminationStatus::kConverged;
@@ -142,7 +151,7 @@ Summary Optimizer::optimize() {
     summary.total_time = seconds(t_start, Clock::now());
     return summary;
   }
-  if (!std::isfinite(summary.initial_chi2)) {
+  if (!std::isfinite(summary.initial_cost)) {
     summary.status = TerminationStatus::kNumericalFailure;
     summary.message = "initial chi2 is not finite";
     summary.total_time = seconds(t_start, Clock::now());
@@ -163,7 +172,7 @@ Summary Optimizer::optimize() {
 
   const int n = im.structure.dimension();
   im.dx.resize(static_cast<std::size_t>(n));
-  double chi2 = summary.initial_chi2;
+  double chi2 = summary.initial_cost;
   double lambda = -1.0;  // < 0: initialise from H at the next damped iteration
   double lambda_floor = 0.0;
   double nu = 2.0;
@@ -405,7 +414,8 @@ Summary Optimizer::optimize() {
     im.restoreState(best_state);
     chi2 = im.evalChi2(graph_);
   }
-  summary.final_chi2 = chi2;
+  summary.final_cost = chi2;
+  summary.final_chi2 = summary.robust_edges > 0 ? graph_.chi2() : chi2;
   summary.factor_nonzeros = im.solver->factorNonZeros();
   // A solver that chooses its backend at analysis ("auto") names its choice (asked at the
   // end: it may take its figures from its backend's first factorisation).

@@ -2,6 +2,7 @@
 #include <cxxabi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <cctype>
@@ -90,6 +91,51 @@ const std::string* TypeRegistry::tagOf(const Edge& e) const {
 std::vector<const TypeRegistry::Entry*> TypeRegistry::entries() const {
   std::vector<const Entry*> out;
   for (const auto& [tag, entry] : entries_) out.push_back(&entry);
+  return out;
+}
+
+void TypeRegistry::registerKernel(const std::string& name, double default_width,
+                                  RobustKernelFactory factory) {
+  checkName(name, "kernel name");
+  if (!factory) throw RegistryError("null factory for kernel '" + name + "'");
+  if (!(default_width > 0.0) || !std::isfinite(default_width)) {
+    throw RegistryError("kernel '" + name + "': default width must be positive and finite");
+  }
+  if (const auto it = kernels_.find(name); it != kernels_.end()) {
+    throw RegistryError("kernel '" + name + "' is already registered" +
+                        twiceBy(it->second.origin, origin_));
+  }
+  kernels_.emplace(name, KernelEntry{name, default_width, origin_, std::move(factory)});
+}
+
+const TypeRegistry::KernelEntry* TypeRegistry::findKernel(const std::string& name) const {
+  auto it = kernels_.find(name);
+  return it == kernels_.end() ? nullptr : &it->second;
+}
+
+std::shared_ptr<RobustKernel> TypeRegistry::createKernel(const std::string& name,
+                                                         double width) const {
+  const KernelEntry* k = findKernel(name);
+  if (!k) {
+    std::string known;
+    for (const auto& [n, entry] : kernels_) known += (known.empty() ? "" : ", ") + n;
+    throw RegistryError("unknown robust kernel '" + name + "'" +
+                        (known.empty() ? std::string(" (none is registered)")
+                                       : " (known: " + known + ")"));
+  }
+  if (std::isnan(width)) width = k->default_width;
+  if (!(width > 0.0) || !std::isfinite(width)) {
+    throw RegistryError("robust kernel '" + name + "': width must be positive and finite, got " +
+                        std::to_string(width));
+  }
+  std::shared_ptr<RobustKernel> kernel = k->make(width);
+  if (!kernel) throw RegistryError("robust kernel '" + name + "': its factory returned nothing");
+  return kernel;
+}
+
+std::vector<const TypeRegistry::KernelEntry*> TypeRegistry::kernels() const {
+  std::vector<const KernelEntry*> out;
+  for (const auto& [name, entry] : kernels_) out.push_back(&entry);
   return out;
 }
 

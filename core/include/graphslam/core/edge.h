@@ -3,9 +3,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/vertex.h"
 
 namespace graphslam {
@@ -106,8 +108,31 @@ class Edge {
   [[nodiscard]] virtual bool perturbsVerticesInPlace() const { return false; }
   /// e^T Omega e of the stored error.
   [[nodiscard]] virtual double chi2() const = 0;
+
+  /// The robust kernel applied to this edge (none by default: plain least squares).
+  void setRobustKernel(std::shared_ptr<const RobustKernel> kernel) {
+    robust_kernel_ = std::move(kernel);
+  }
+  [[nodiscard]] const RobustKernel* robustKernel() const { return robust_kernel_.get(); }
+  [[nodiscard]] const std::shared_ptr<const RobustKernel>& sharedRobustKernel() const {
+    return robust_kernel_;
+  }
+  /// The edge's term of the objective: rho(chi2()) with a robust kernel, chi2() without.
+  [[nodiscard]] double robustChi2() const {
+    if (!robust_kernel_) return chi2();
+    double rho[3];
+    robust_kernel_->robustify(chi2(), rho);
+    return rho[0];
+  }
+  /// The factor rho'(chi2()) on the information in H and b (1 without a kernel).
+  [[nodiscard]] double robustWeight() const {
+    if (!robust_kernel_) return 1.0;
+    double rho[3];
+    robust_kernel_->robustify(chi2(), rho);
+    return rho[1];
+  }
   /// Adds J_a^T Omega J_b into H and J_a^T Omega e into b (gradient), from the stored
-  /// error and Jacobians.
+  /// error and Jacobians; Omega scaled by robustWeight() when the edge has a kernel.
   virtual void constructQuadraticForm(const QuadraticFormTarget& target) const = 0;
 
   /// Stored error, `dimension()` doubles.
@@ -165,6 +190,7 @@ class Edge {
   /// n slots with id -1 and no vertex (the previous ones dropped).
   void resizeVertices(std::size_t n);
 
+  std::shared_ptr<const RobustKernel> robust_kernel_;
   int dimension_;
   int arity_;
   std::uint32_t num_vertices_ = 0;

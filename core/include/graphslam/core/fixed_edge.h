@@ -132,7 +132,8 @@ class FixedEdge : public Edge {
       constexpr int I = decltype(ic)::value;
       if (t.b_offsets[I] < 0) return;
       constexpr int DI = VertexXi<I>::kDimension;
-      const Eigen::Matrix<double, DI, D> JtW = jacobian<I>().transpose() * information_;
+      Eigen::Matrix<double, DI, D> JtW = jacobian<I>().transpose() * information_;
+      if (robustKernel()) JtW *= robustWeight();
       Eigen::Map<Eigen::Matrix<double, DI, 1>>(t.gradient + t.b_offsets[I]) += JtW * error_;
       detail::staticFor<kArity>([&](auto jc) {
         constexpr int J = decltype(jc)::value;

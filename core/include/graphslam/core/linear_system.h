@@ -49,9 +49,13 @@ class LinearSystem {
   void setThreads(int threads);
   [[nodiscard]] int threads() const;
 
-  /// Calls computeError() of every edge of `graph` and returns the sum of their chi2 in
-  /// edge order (what Graph::chi2() returns), in parallel with setThreads().
+  /// Calls computeError() of every edge of `graph` and returns the objective: the sum of
+  /// their robustChi2() in edge order (what Graph::chi2() returns when no edge has a
+  /// robust kernel), in parallel with setThreads().
   double computeChi2(Graph& graph);
+  /// Sum of chi2() = e^T Omega e of the errors stored by the last computeChi2() (robust
+  /// kernels ignored), in edge order.
+  [[nodiscard]] double rawChi2(const Graph& graph) const;
 
   /// Calls linearizeOplus() of every active edge (in parallel with setThreads(), except
   /// edges whose numeric Jacobian perturbs vertices in place: those run serially after

@@ -76,8 +76,15 @@ struct Summary {
   std::string message;
   Algorithm algorithm = Algorithm::kGaussNewtonFallback;
   std::string linear_solver;
+  /// sum of e^T Omega e before and after (robust kernels ignored).
   double initial_chi2 = 0.0;
   double final_chi2 = 0.0;
+  /// The objective minimised: sum of rho(e^T Omega e), equal to chi2 when no edge has a
+  /// robust kernel.
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  /// Edges with a robust kernel.
+  std::size_t robust_edges = 0;
   int iterations = 0;
   std::vector<IterationStats> per_iteration;
   TimeSplit time;
