@@ -70,7 +70,8 @@ inline Algorithm parseAlgorithm(const std::string& value) {
   return parseChoice<Algorithm>("algorithm", value,
                                 {{"auto", Algorithm::kGaussNewtonFallback},
                                  {"gn", Algorithm::kGaussNewton},
-                                 {"lm", Algorithm::kLevenbergMarquardt}});
+                                 {"lm", Algorithm::kLevenbergMarquardt},
+                                 {"dogleg", Algorithm::kDogleg}});
 }
 
 inline void printHelp(const char* usage, const po::options_description& desc) {

@@ -174,13 +174,7 @@ bool optimiseFirst(const SolversOptions& o, LoadedInput& in, const SolverRegistr
   applyInitialGuess(in, graph, o.init, solvers);
   Optimizer::Options options;
   options.max_iterations = o.iterations;
-  if (o.algorithm == "gn") {
-    options.algorithm = Algorithm::kGaussNewton;
-  } else if (o.algorithm == "lm") {
-    options.algorithm = Algorithm::kLevenbergMarquardt;
-  } else if (o.algorithm != "auto") {
-    throw UsageError("--algorithm must be auto, gn or lm");
-  }
+  options.algorithm = parseAlgorithm(o.algorithm);
   Optimizer optimizer(graph, solvers, options);
   const Summary summary = optimizer.optimize();
   std::printf("optimised first (%s): chi2 %.10g -> %.10g in %d iterations (%s)\n",

@@ -44,7 +44,7 @@ namespace {
 // optimize
 
 constexpr const char* kOptimizeUsage =
-    "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm]\n"
+    "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm|dogleg]\n"
     "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin "
     "LIB]...\n"
     "                          [--stats FILE.csv] [--plot FILE.png] [--quiet] [--threads N]\n"

@@ -351,6 +351,16 @@ GaugeFix::GaugeFix(Graph& graph, bool enabled) {
   }
 }
 
+void GaugeFix::anchorGroups(Graph& graph, const std::vector<std::vector<VertexId>>& groups) {
+  for (const auto& group : groups) {
+    Vertex* v = group.empty() ? nullptr : graph.vertex(group.front());
+    if (!v || v->fixed()) continue;
+    v->setFixed(true);
+    vertices_.push_back(v);
+    ids_.push_back(v->id());
+  }
+}
+
 GaugeFix::~GaugeFix() {
   for (Vertex* v : vertices_) v->setFixed(false);
 }

@@ -94,7 +94,10 @@ class GaugeFix {
   ~GaugeFix();
   GaugeFix(const GaugeFix&) = delete;
   GaugeFix& operator=(const GaugeFix&) = delete;
-  /// Ids of the vertices fixed here (empty or one).
+  /// Also fixes the first (lowest-id) vertex of each group: the components that nothing
+  /// anchors (LinearSystem::unanchoredGroups), so that each has its own gauge fixed.
+  void anchorGroups(Graph& graph, const std::vector<std::vector<VertexId>>& groups);
+  /// Ids of the vertices fixed here.
   [[nodiscard]] const std::vector<VertexId>& fixedIds() const { return ids_; }
 
  private:

@@ -569,27 +569,61 @@ INSTANTIATE_TEST_SUITE_P(AllSolvers, Core_Optimizer,
                          ::testing::Values("eigen-ldlt", "eigen-llt", "cholmod",
                                            "cholmod-simplicial"));
 
-TEST(Core_OptimizerDiagnostics, UnanchoredComponentAndFailureNameVertices) {
+/// Two components: 0-1 anchored by the fixed vertex 0, 5-6 by nothing.
+Graph twoComponents() {
   Graph g;
   addPoint(g, 0, {0, 0}).setFixed(true);
   addPoint(g, 1, {1, 0});
   addPoint(g, 5, {5, 0});
-  addPoint(g, 6, {6, 0});
+  addPoint(g, 6, {6, 0.5});
   addDisplacement<EdgeDisplacement>(g, 0, 1, {1, 0});
   addDisplacement<EdgeDisplacement>(g, 5, 6, {1, 0});  // floats: nothing anchors 5-6
+  return g;
+}
+
+TEST(Core_OptimizerDiagnostics, UnanchoredComponentIsAnchoredAtItsLowestId) {
+  for (Algorithm algorithm : {Algorithm::kGaussNewton, Algorithm::kGaussNewtonFallback,
+                              Algorithm::kLevenbergMarquardt, Algorithm::kDogleg}) {
+    Graph g = twoComponents();
+    auto solvers = allSolvers();
+    Optimizer::Options opt;
+    opt.algorithm = algorithm;
+    opt.linear_solver = "cholmod";
+    std::vector<std::string> logged;
+    setLogSink([&](LogLevel, const std::string& m) { logged.push_back(m); });
+    setLogLevel(LogLevel::kInfo);
+    Optimizer optimizer(g, solvers, opt);
+    const Summary s = optimizer.optimize();
+    setLogLevel(LogLevel::kWarning);
+    setLogSink(nullptr);
+    SCOPED_TRACE(toString(algorithm));
+    ASSERT_EQ(s.unanchored.size(), 1u);
+    EXPECT_EQ(s.unanchored[0], (std::vector<VertexId>{5, 6}));
+    EXPECT_EQ(s.gauge_fixed, (std::vector<VertexId>{5}));
+    EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+    EXPECT_NEAR(s.final_chi2, 0.0, 1e-12);
+    EXPECT_FALSE(g.vertex(5)->fixed());  // released after optimize()
+    ASSERT_FALSE(logged.empty());
+    EXPECT_NE(logged[0].find("fixing vertex 5"), std::string::npos) << logged[0];
+  }
+}
+
+TEST(Core_OptimizerDiagnostics, UnanchoredComponentFailureNamesVertexAndCause) {
+  Graph g = twoComponents();
   auto solvers = allSolvers();
   Optimizer::Options opt;
   opt.algorithm = Algorithm::kGaussNewton;
   opt.linear_solver = "cholmod";
+  opt.fix_gauge = false;
   std::vector<std::string> logged;
   setLogSink([&](LogLevel, const std::string& m) { logged.push_back(m); });
   Optimizer optimizer(g, solvers, opt);
   const Summary s = optimizer.optimize();
   setLogSink(nullptr);
   ASSERT_EQ(s.unanchored.size(), 1u);
-  EXPECT_EQ(s.unanchored[0], (std::vector<VertexId>{5, 6}));
   EXPECT_EQ(s.status, TerminationStatus::kNumericalFailure);
-  EXPECT_NE(s.message.find("vertex"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("(at vertex 6)"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("component without an anchor"), std::string::npos) << s.message;
   ASSERT_FALSE(logged.empty());
   EXPECT_NE(logged[0].find("5 6"), std::string::npos) << logged[0];
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -10,6 +11,12 @@
 #include "graphslam/core/linear_solver.h"
 
 namespace graphslam {
+
+namespace detail {
+class GaugeFix;
+struct StepContext;
+struct StepResult;
+}  // namespace detail
 
 enum class Algorithm {
   kGaussNewton,         ///< undamped steps, always accepted
@@ -22,6 +29,9 @@ enum class Algorithm {
   /// gradients preconditioned with the last factorisation; it is kept when it lowers chi2,
   /// and chord steps follow one another while their iterations reach their tolerance.
   kGaussNewtonFallback,
+  /// Powell's dogleg in a trust region (Options::Dogleg): one factorisation per iteration,
+  /// rejected steps retried on the same factorisation with a smaller radius.
+  kDogleg,
 };
 
 [[nodiscard]] const char* toString(Algorithm algorithm);
@@ -65,6 +75,8 @@ struct IterationStats {
   /// Points of that dogleg path whose chi2 was evaluated (the first may already be at a
   /// quarter of the Gauss-Newton step); 0 without a dogleg step.
   int dogleg_trials = 0;
+  /// Trust radius of the dogleg algorithm's step (D-norm, D = diag(H)); 0 otherwise.
+  double trust_radius = 0.0;
   bool accepted = true;  ///< false when LM found no decreasing step
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
@@ -178,7 +190,26 @@ class Optimizer {
       int max_iterations = 10;
     };
     ChordSteps chord_steps;
-    /// LM: retries (factorisations with larger damping) before giving up.
+    /// kDogleg's trust region, in the D-norm (D = diag(H)).
+    struct Dogleg {
+      /// First radius; 0: the D-norm of the first Gauss-Newton step.
+      double initial_radius = 0.0;
+      /// An accepted step whose actual decrease is above this fraction of the model's lets
+      /// the radius grow to expand_factor times the step's length...
+      double expand_agreement = 0.75;
+      double expand_factor = 3.0;
+      /// ...one below this fraction, or a rejected step, shrinks it to shrink_factor
+      /// times the step's length.
+      double shrink_agreement = 0.25;
+      double shrink_factor = 0.25;
+      /// When H does not factorise (not positive definite: an unanchored part, a landmark
+      /// seen once), the Gauss-Newton step is taken of H + lambda I with lambda this
+      /// fraction of H's largest diagonal entry, grown tenfold per failure.
+      double initial_regularization = 1e-8;
+    };
+    Dogleg dogleg;
+    /// LM: retries (factorisations with larger damping) before giving up; dogleg: radii
+    /// tried per iteration, and regularisations of an H that does not factorise.
     int max_rejections = 10;
     /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
     /// after optimize()).
@@ -209,7 +240,16 @@ class Optimizer {
   [[nodiscard]] double chi2();
 
  private:
-  struct Impl;
+  bool setUp(Summary& summary, detail::GaugeFix& gauge);
+  void linearizeAndAssemble(IterationStats& st);
+  void recordIteration(Summary& summary, IterationStats& st, const detail::StepResult& r,
+                       std::chrono::steady_clock::time_point t_start);
+  bool stopped(Summary& summary, const detail::StepResult& r) const;
+
+ public:
+  struct Impl;  ///< the optimizer's state (private to the library's sources)
+
+ private:
   Graph& graph_;
   const SolverRegistry& solvers_;
   Options options_;

@@ -1,0 +1,199 @@
+// SPDX-License-Identifier: MIT
+// The minimizer's step strategies, each on its own: Gauss-Newton, Levenberg-Marquardt (both
+// dampings), dogleg and the default; recovery from systems that do not factorise.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "graphslam/core/fixed_edge.h"
+#include "graphslam/core/optimizer.h"
+#include "graphslam/simulation/simulator.h"
+#include "graphslam/solvers/register.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+using namespace graphslam;
+using types_slam2d::VertexXY;
+
+namespace {
+
+SolverRegistry allSolvers() {
+  SolverRegistry s;
+  solvers::registerSolvers(s);
+  return s;
+}
+
+/// Distance between two points: e = |b - a| - z (numeric Jacobians).
+class EdgeRange final : public BaseBinaryEdge<1, double, VertexXY, VertexXY> {
+ public:
+  ErrorVector evaluate(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const override {
+    return ErrorVector((b - a).norm() - measurement());
+  }
+};
+
+/// Displacement between two points: e = (b - a) - z.
+class EdgeOffset final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexXY, VertexXY> {
+ public:
+  ErrorVector evaluate(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const override {
+    return (b - a) - measurement();
+  }
+};
+
+void addPoint(Graph& g, VertexId id, const Eigen::Vector2d& p, bool fixed = false) {
+  auto v = std::make_unique<VertexXY>();
+  v->setId(id);
+  v->setEstimate(p);
+  v->setFixed(fixed);
+  g.addVertex(std::move(v));
+}
+
+/// Point 0 fixed, point 1 placed by an offset from it, point 2 seen only by a range from
+/// point 1: H is singular in point 2's tangential direction.
+Graph rangeOnlyPoint() {
+  Graph g;
+  addPoint(g, 0, {0, 0}, true);
+  addPoint(g, 1, {0.5, 0.2});
+  addPoint(g, 2, {3, 1});
+  auto offset = std::make_unique<EdgeOffset>();
+  offset->setVertexIds({0, 1});
+  offset->setMeasurement({1, 0});
+  g.addEdge(std::move(offset));
+  auto range = std::make_unique<EdgeRange>();
+  range->setVertexIds({1, 2});
+  range->setMeasurement(2.0);
+  g.addEdge(std::move(range));
+  return g;
+}
+
+Summary optimize(Graph& g, Algorithm algorithm, const std::string& solver,
+                 Optimizer::Options options = {}) {
+  const SolverRegistry solvers = allSolvers();
+  options.algorithm = algorithm;
+  options.linear_solver = solver;
+  Optimizer optimizer(g, solvers, options);
+  return optimizer.optimize();
+}
+
+/// A pose graph with landmarks from its odometry; larger angle noise makes the first
+/// Gauss-Newton steps overshoot.
+simulation::SimulatedGraph manhattan(double sigma_theta = 0.01) {
+  simulation::ManhattanOptions o;
+  o.sigma_theta = sigma_theta;
+  o.num_poses = 300;
+  o.num_landmarks = 40;
+  o.seed = 7;
+  return simulation::simulateManhattan(o);
+}
+
+}  // namespace
+
+TEST(Minimizer_Strategies, EveryAlgorithmReachesTheSameOptimum) {
+  auto reference = manhattan();
+  const Summary ref = optimize(reference.graph, Algorithm::kGaussNewtonFallback, "auto");
+  ASSERT_EQ(ref.status, TerminationStatus::kConverged) << ref.message;
+  ASSERT_LT(ref.final_chi2, 0.05 * ref.initial_chi2);
+  struct Case {
+    Algorithm algorithm;
+    Optimizer::Options::Damping damping;
+  };
+  for (const Case c : {Case{Algorithm::kGaussNewton, {}}, Case{Algorithm::kLevenbergMarquardt, {}},
+                       Case{Algorithm::kLevenbergMarquardt, Optimizer::Options::Damping::kDiagonal},
+                       Case{Algorithm::kDogleg, {}}}) {
+    auto sim = manhattan();
+    Optimizer::Options options;
+    options.damping = c.damping;
+    options.max_iterations = 200;
+    const Summary s = optimize(sim.graph, c.algorithm, "eigen-ldlt", options);
+    SCOPED_TRACE(std::string(toString(c.algorithm)) + " damping " +
+                 std::to_string(static_cast<int>(c.damping)));
+    EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+    EXPECT_NEAR(s.final_chi2, ref.final_chi2, 1e-6 * ref.final_chi2);
+    for (const IterationStats& it : s.per_iteration) {
+      EXPECT_EQ(it.lambda > 0, c.algorithm == Algorithm::kLevenbergMarquardt) << it.iteration;
+      EXPECT_EQ(it.trust_radius > 0, c.algorithm == Algorithm::kDogleg) << it.iteration;
+    }
+  }
+}
+
+TEST(Minimizer_Strategies, LevenbergMarquardtStepsNeverRaiseTheObjective) {
+  auto sim = manhattan();
+  const Summary s = optimize(sim.graph, Algorithm::kLevenbergMarquardt, "eigen-ldlt");
+  double previous = s.initial_cost;
+  for (const IterationStats& it : s.per_iteration) {
+    EXPECT_LE(it.chi2, previous) << it.iteration;
+    previous = it.chi2;
+  }
+}
+
+TEST(Minimizer_Dogleg, RadiusGrowsAfterGoodStepsAndStepsStayInside) {
+  auto sim = manhattan();
+  Optimizer::Options options;
+  options.dogleg.initial_radius = 1e-3;  // far inside the Gauss-Newton step
+  options.max_iterations = 200;
+  const Summary s = optimize(sim.graph, Algorithm::kDogleg, "eigen-ldlt", options);
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  ASSERT_GE(s.per_iteration.size(), 3u);
+  EXPECT_DOUBLE_EQ(s.per_iteration[0].trust_radius, 1e-3);
+  // The model of a small step is good: the radius triples until the step is Gauss-Newton's.
+  EXPECT_GT(s.per_iteration[1].trust_radius, 2.9e-3);
+  double previous = s.initial_cost;
+  for (const IterationStats& it : s.per_iteration) {
+    EXPECT_LE(it.chi2, previous) << it.iteration;  // only decreasing steps are accepted
+    previous = it.chi2;
+  }
+}
+
+TEST(Minimizer_Dogleg, RejectedStepsAreRetriedOnTheSameFactorisation) {
+  auto sim = manhattan(0.3);
+  Optimizer::Options options;
+  options.dogleg.initial_radius = 1e6;  // the first steps are undamped Gauss-Newton steps
+  options.max_iterations = 200;
+  const Summary s = optimize(sim.graph, Algorithm::kDogleg, "eigen-ldlt", options);
+  auto reference = manhattan(0.3);
+  const Summary ref = optimize(reference.graph, Algorithm::kGaussNewtonFallback, "auto");
+  EXPECT_NEAR(s.final_chi2, ref.final_chi2, 1e-6 * ref.final_chi2);
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  int retried = 0;
+  for (const IterationStats& it : s.per_iteration) {
+    EXPECT_EQ(it.attempts, 1) << it.iteration;  // one factorisation per iteration
+    retried += it.dogleg_trials > 1 ? 1 : 0;
+  }
+  EXPECT_GT(retried, 0);
+}
+
+TEST(Minimizer_Recovery, SingularSystemConvergesWithDampingAndFailsWithoutIt) {
+  for (const char* solver : {"cholmod", "eigen-llt", "block-llt"}) {
+    SCOPED_TRACE(solver);
+    for (Algorithm a : {Algorithm::kGaussNewtonFallback, Algorithm::kLevenbergMarquardt,
+                        Algorithm::kDogleg}) {
+      Graph g = rangeOnlyPoint();
+      const Summary s = optimize(g, a, solver);
+      EXPECT_EQ(s.status, TerminationStatus::kConverged) << toString(a) << ": " << s.message;
+      EXPECT_LT(s.final_chi2, 1e-12) << toString(a);
+    }
+    Graph g = rangeOnlyPoint();
+    const Summary gn = optimize(g, Algorithm::kGaussNewton, solver);
+    EXPECT_EQ(gn.status, TerminationStatus::kNumericalFailure);
+    if (std::string(solver) == "eigen-llt") continue;  // reports no column
+    EXPECT_NE(gn.message.find("(at vertex 2)"), std::string::npos) << gn.message << " / " << toString(gn.status);
+    EXPECT_NE(gn.message.find("single edge"), std::string::npos) << gn.message;
+  }
+}
+
+TEST(Minimizer_Recovery, DefaultSwitchesToDampingWhenTheUndampedSystemFails) {
+  Graph g = rangeOnlyPoint();
+  const Summary s = optimize(g, Algorithm::kGaussNewtonFallback, "cholmod");
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  // Undamped iterations until the factorisation fails, then damped ones only.
+  std::size_t first_damped = 0;
+  while (first_damped < s.per_iteration.size() && s.per_iteration[first_damped].lambda == 0.0) {
+    ++first_damped;
+  }
+  ASSERT_GT(first_damped, 0u);
+  ASSERT_LT(first_damped, s.per_iteration.size());
+  for (std::size_t k = first_damped; k < s.per_iteration.size(); ++k) {
+    EXPECT_GT(s.per_iteration[k].lambda, 0.0) << k;
+  }
+}
