@@ -45,7 +45,7 @@ void PseudoHuberKernel::robustify(double s, double rho[3]) const {
   const double c2 = width() * width();
   const double q = 1.0 + s / c2;
   const double root = std::sqrt(q);
-  rho[0] = 2.0 * c2 * (root - 1.0);
+  rho[0] = 2.0 * s / (root + 1.0);  // 2 c^2 (root - 1) without the cancellation for small s
   rho[1] = 1.0 / root;
   rho[2] = -0.5 * rho[1] / (q * c2);
 }
@@ -60,10 +60,10 @@ void CauchyKernel::robustify(double s, double rho[3]) const {
 
 void GemanMcClureKernel::robustify(double s, double rho[3]) const {
   const double c2 = width() * width();
-  const double inv = 1.0 / (c2 + s);
-  rho[0] = c2 * s * inv;
-  rho[1] = c2 * c2 * inv * inv;
-  rho[2] = -2.0 * rho[1] * inv;
+  const double q = c2 / (c2 + s);  // exactly 1 at s = 0
+  rho[0] = q * s;
+  rho[1] = q * q;
+  rho[2] = -2.0 * rho[1] / (c2 + s);
 }
 
 void WelschKernel::robustify(double s, double rho[3]) const {
