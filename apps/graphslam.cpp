@@ -356,21 +356,6 @@ int cmdOptimize(const std::vector<std::string>& args) {
 // ---------------------------------------------------------------------------------------
 // list-types, list-solvers
 
-/// Parses the options of the listing commands (only --plugin); returns false after --help.
-bool parseListing(const std::vector<std::string>& args, const char* usage, Registries& reg) {
-  std::vector<std::string> plugins;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("plugin", po::value(&plugins)->composing(),
-                                                 "also load this plugin (repeatable)");
-  const auto vm = parse(args, desc);
-  if (vm.count("help")) {
-    printHelp(usage, desc);
-    return false;
-  }
-  loadRegistries(reg, plugins);
-  return true;
-}
-
 std::string parameterNote(int n) {
   return n > 0 ? "  parameters " + std::to_string(n) : std::string();
 }

@@ -59,23 +59,16 @@ void applyRobustOptions(const RobustOptions& o, Graph& graph, const TypeRegistry
 }
 
 int cmdListKernels(const std::vector<std::string>& args) {
-  std::vector<std::string> plugins;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("plugin", po::value(&plugins)->composing(),
-                                                 "also load this plugin (repeatable)");
-  const auto vm = parse(args, desc);
-  if (vm.count("help")) {
-    printHelp(
-        "usage: graphslam list-kernels [--plugin LIB]...\nLists the robust kernels this build "
-        "knows (for optimize --robust-kernel NAME[:WIDTH]): name, default width, origin.",
-        desc);
+  Registries reg;
+  if (!parseListing(args,
+                    "usage: graphslam list-kernels [--plugin LIB]...\nLists the robust kernels "
+                    "this build knows (for optimize --robust-kernel NAME[:WIDTH]): name, default "
+                    "width, origin.",
+                    reg)) {
     return kExitOk;
   }
-  Registries reg;
-  loadRegistries(reg, plugins);
   for (const auto* k : reg.types.kernels()) {
-    std::printf("%-16s width %-10.6g (%s)\n", k->name.c_str(), k->default_width,
-                k->origin.c_str());
+    std::printf("%-16s width %-10.6g (%s)\n", k->name.c_str(), k->default_width, k->origin.c_str());
   }
   return kExitOk;
 }

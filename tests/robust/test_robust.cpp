@@ -26,9 +26,9 @@ namespace {
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
 
-const std::vector<std::string> kKernelNames = {"cauchy", "dcs",       "fair", "geman-mcclure",
-                                               "huber",  "pseudo-huber", "saturated", "tls",
-                                               "tukey",  "welsch"};
+const std::vector<std::string> kKernelNames = {
+    "cauchy",       "dcs",       "fair", "geman-mcclure", "huber",
+    "pseudo-huber", "saturated", "tls",  "tukey",         "welsch"};
 
 TypeRegistry kernelRegistry() {
   TypeRegistry r;
@@ -39,9 +39,7 @@ TypeRegistry kernelRegistry() {
 }
 
 /// Where a piecewise kernel switches branch (rho'' jumps there): width^2, phi for dcs.
-double kink(const std::string& name, double width) {
-  return name == "dcs" ? width : width * width;
-}
+double kink(const std::string& name, double width) { return name == "dcs" ? width : width * width; }
 
 struct Rho {
   double v[3];
@@ -231,7 +229,7 @@ void addSE2(Graph& g, int i, int j, const SE2& z) {
 TEST(Robust_Selection, LoopClosuresTagsAndAll) {
   const TypeRegistry r = kernelRegistry();
   Graph g = line(5);
-  addSE2(g, 0, 3, SE2(3, 0, 0));  // loop closure
+  addSE2(g, 0, 3, SE2(3, 0, 0));   // loop closure
   addSE2(g, 4, 2, SE2(-2, 0, 0));  // loop closure, ids in either order
   auto landmark = std::make_unique<VertexXY>();
   landmark->setId(5);  // consecutive to pose 4, but not a pose
@@ -250,7 +248,8 @@ TEST(Robust_Selection, LoopClosuresTagsAndAll) {
 
   std::vector<bool> loops;
   for (const auto& e : g.edges()) loops.push_back(robust::isLoopClosure(*e, g));
-  EXPECT_EQ(loops, (std::vector<bool>{false, false, false, false, true, true, false, false, false}));
+  EXPECT_EQ(loops,
+            (std::vector<bool>{false, false, false, false, true, true, false, false, false}));
 
   EXPECT_EQ(robust::applyRobustKernel(g, r, "cauchy:2", "loop-closures"), 2u);
   for (std::size_t k = 0; k < g.edges().size(); ++k) {
@@ -316,8 +315,8 @@ TEST(Robust_Optimization, KernelOnTheWrongLoopClosureKeepsThePosesWhereTheyAre) 
   const struct {
     const char* spec;
     double max_off, tolerance;
-  } cases[] = {{"huber", 0.64053, 1e-4},      {"cauchy", 0.036255, 1e-5}, {"dcs", 0, 1e-4},
-               {"geman-mcclure", 1.12e-4, 1e-5}, {"tukey", 0, 1e-9},      {"tls", 0, 1e-9}};
+  } cases[] = {{"huber", 0.64053, 1e-4},         {"cauchy", 0.036255, 1e-5}, {"dcs", 0, 1e-4},
+               {"geman-mcclure", 1.12e-4, 1e-5}, {"tukey", 0, 1e-9},         {"tls", 0, 1e-9}};
   for (const auto& [spec, want_off, tolerance] : cases) {
     SCOPED_TRACE(spec);
     Graph g = lineWithOutlier();
@@ -326,7 +325,8 @@ TEST(Robust_Optimization, KernelOnTheWrongLoopClosureKeepsThePosesWhereTheyAre) 
     ASSERT_TRUE(s.succeeded()) << s.message;
     EXPECT_EQ(s.robust_edges, 2u);
     double max_off = 0;
-    for (int i = 0; i < 6; ++i) max_off = std::max(max_off, (position(g, i) - Eigen::Vector2d(i, 0)).norm());
+    for (int i = 0; i < 6; ++i)
+      max_off = std::max(max_off, (position(g, i) - Eigen::Vector2d(i, 0)).norm());
     EXPECT_NEAR(max_off, want_off, tolerance);
     // The robust cost is the sum of rho over the edges; chi2 the raw sum.
     double cost = 0, chi2 = 0;
