@@ -9,6 +9,7 @@
 #include "graphslam/solvers/process.h"
 
 #ifndef GRAPHSLAM_TOOL_PLUGINS
+#include "graphslam/robust/register.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_drivebot/register.h"
@@ -59,6 +60,8 @@ std::vector<std::unique_ptr<Plugin>> loadTypesAndSolvers(TypeRegistry& types,
   types_slam2d::registerTypes(types);
   types.setOrigin("types_drivebot");
   types_drivebot::registerTypes(types);
+  types.setOrigin("robust");
+  robust::registerKernels(types);
   types.setOrigin("");
   solvers.setOrigin("solvers");
   // One cache of block orderings: the global initial guess and the optimizer order one

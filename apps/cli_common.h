@@ -78,6 +78,21 @@ inline void printHelp(const char* usage, const po::options_description& desc) {
   std::cout << usage << "\n\n" << desc << "\n";
 }
 
+/// Parses the options of the listing commands (only --plugin); returns false after --help.
+inline bool parseListing(const std::vector<std::string>& args, const char* usage, Registries& reg) {
+  std::vector<std::string> plugins;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")("plugin", po::value(&plugins)->composing(),
+                                                 "also load this plugin (repeatable)");
+  const auto vm = parse(args, desc);
+  if (vm.count("help")) {
+    printHelp(usage, desc);
+    return false;
+  }
+  loadRegistries(reg, plugins);
+  return true;
+}
+
 // Subcommands implemented outside graphslam.cpp.
 int cmdEval(const std::vector<std::string>& args);
 int cmdDeadreckon(const std::vector<std::string>& args);

@@ -30,6 +30,7 @@
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
 #include "plotting.h"
+#include "robust_options.h"
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -49,6 +50,7 @@ constexpr const char* kOptimizeUsage =
     "LIB]...\n"
     "                          [--stats FILE.csv] [--plot FILE.png] [--quiet] [--threads N]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
+    "                          [--robust-kernel NAME[:WIDTH] [--robust-edges all|loop-closures|TAG]]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
@@ -131,6 +133,7 @@ struct OptimizeOptions {
   std::string damping, first_step, init, marginals_file, marginals_tag;
   bool quiet = false;
   Optimizer::Options options;
+  RobustOptions robust;
 };
 
 void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
@@ -179,6 +182,7 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "write marginal covariances (upper triangle per vertex) here, atomically")(
       "marginals-tag", po::value(&o.marginals_tag),
       "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)");
+  declareRobustOptions(desc, o.robust);
 }
 
 /// Parses and checks the options and fills the optimizer's; false after --help.
@@ -315,9 +319,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, o.plugins);
   checkRegistered(o, reg);
+  checkRobustOptions(o.robust, reg.types);
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
   applyInitialGuess(in, graph, o.init, reg.solvers);
+  applyRobustOptions(o.robust, graph, reg.types);
   // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
   const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
@@ -349,21 +355,6 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
 // ---------------------------------------------------------------------------------------
 // list-types, list-solvers
-
-/// Parses the options of the listing commands (only --plugin); returns false after --help.
-bool parseListing(const std::vector<std::string>& args, const char* usage, Registries& reg) {
-  std::vector<std::string> plugins;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("plugin", po::value(&plugins)->composing(),
-                                                 "also load this plugin (repeatable)");
-  const auto vm = parse(args, desc);
-  if (vm.count("help")) {
-    printHelp(usage, desc);
-    return false;
-  }
-  loadRegistries(reg, plugins);
-  return true;
-}
 
 std::string parameterNote(int n) {
   return n > 0 ? "  parameters " + std::to_string(n) : std::string();
@@ -483,7 +474,8 @@ constexpr const char* kMainUsage =
     "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
     "  list-types     list the .g2o tags this build knows\n"
-    "  list-solvers   list the linear solvers this build knows\n";
+    "  list-solvers   list the linear solvers this build knows\n"
+    "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
 
 }  // namespace
 
@@ -515,6 +507,7 @@ int main(int argc, char** argv) {
     if (command == "optimize") return cmdOptimize(args);
     if (command == "list-types") return cmdListTypes(args);
     if (command == "list-solvers") return cmdListSolvers(args);
+    if (command == "list-kernels") return cmdListKernels(args);
     if (command == "simulate") return cmdSimulate(args);
     if (command == "eval") return cmdEval(args);
     if (command == "deadreckon") return cmdDeadreckon(args);
