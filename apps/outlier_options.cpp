@@ -30,6 +30,10 @@ void declareOutlierOptions(po::options_description& desc, OutlierCliOptions& o) 
       "gnc-step-iterations",
       po::value(&g.optimizer_iterations_per_step)->default_value(g.optimizer_iterations_per_step),
       "GNC: optimizer iterations per step (warm-started)")(
+      "gnc-initial-iterations",
+      po::value(&g.initial_least_squares_iterations)
+          ->default_value(g.initial_least_squares_iterations),
+      "GNC: least-squares iterations over every edge before the first step (0: none)")(
       "gnc-max-steps", po::value(&g.max_iterations)->default_value(g.max_iterations),
       "GNC: at most this many steps");
 }
@@ -44,6 +48,8 @@ void checkOutlierOptions(const po::variables_map& vm, OutlierCliOptions& o) {
     throw UsageError("--gnc-mu-step must be a finite number > 1");
   if (g.optimizer_iterations_per_step < 1)
     throw UsageError("--gnc-step-iterations must be at least 1");
+  if (g.initial_least_squares_iterations < 0)
+    throw UsageError("--gnc-initial-iterations must be at least 0");
   if (g.max_iterations < 1) throw UsageError("--gnc-max-steps must be at least 1");
 }
 

@@ -105,6 +105,36 @@ class Candidates {
   std::vector<std::shared_ptr<WeightKernel>> kernel_;
 };
 
+/// Holds the gauge for the whole run: with nothing fixed and no unary edge, fixes the
+/// lowest id with an edge (as the optimizer would at every call), so that the optimizer
+/// sees one structure throughout and analyses it once; restored when destroyed.
+class GaugeHold {
+ public:
+  GaugeHold(Graph& graph, bool fix_gauge) {
+    if (!fix_gauge) return;
+    for (const auto& [id, v] : graph.vertices()) {
+      if (v->fixed()) return;
+    }
+    for (const auto& e : graph.edges()) {
+      if (e->vertexIds().size() == 1) return;
+    }
+    for (const auto& [id, v] : graph.vertices()) {
+      if (v->edges().empty()) continue;
+      fixed_ = v.get();
+      fixed_->setFixed(true);
+      return;
+    }
+  }
+  ~GaugeHold() {
+    if (fixed_) fixed_->setFixed(false);
+  }
+  GaugeHold(const GaugeHold&) = delete;
+  GaugeHold& operator=(const GaugeHold&) = delete;
+
+ private:
+  Vertex* fixed_ = nullptr;
+};
+
 }  // namespace
 
 bool isOdometryOrUnary(const Edge& edge) {
@@ -148,6 +178,8 @@ void checkOptions(const GncOptions& o) {
   if (!(o.min_initial_mu > 0.0 && std::isfinite(o.min_initial_mu)))
     throw Error("GncOptions::min_initial_mu must be a positive finite number");
   if (o.max_iterations < 1) throw Error("GncOptions::max_iterations must be at least 1");
+  if (o.initial_least_squares_iterations < 0)
+    throw Error("GncOptions::initial_least_squares_iterations must be at least 0");
   if (o.optimizer_iterations_per_step < 1)
     throw Error("GncOptions::optimizer_iterations_per_step must be at least 1");
   if (!(o.weight_tolerance >= 0.0 && o.weight_tolerance < 0.5))
@@ -163,9 +195,22 @@ GncResult runGnc(Graph& graph, const SolverRegistry& solvers, const GncOptions& 
   Candidates cand(graph, options);
   r.candidates = cand.size();
   r.known_inliers = graph.numEdges() - cand.size();
-  const double total_chi2 = graph.chi2();
+  const GaugeHold gauge(graph, options.optimizer.fix_gauge);
+  Optimizer::Options step_options = options.optimizer;
+  step_options.max_iterations = std::max(1, options.initial_least_squares_iterations);
+  Optimizer optimizer(graph, solvers, step_options);
+  if (options.initial_least_squares_iterations > 0) {  // every weight is 1 here
+    const Summary first = optimizer.optimize();
+    r.optimizer_iterations += first.iterations;
+    if (!first.succeeded() && first.status != TerminationStatus::kNoProgress) {
+      r.ok = false;
+      r.message = "initial least-squares step failed: " + first.message;
+      cand.report(graph.numEdges(), options.rejection_weight, r);
+      return r;
+    }
+  }
+  (void)graph.chi2();
   cand.readErrors();
-  const double known_chi2 = total_chi2 - cand.candidateChi2();
   r.initial_mu = initialMu(cand.s(), cand.c2(), options.min_initial_mu);
   double mu = r.initial_mu;
   if (mu < 0.0) {  // every candidate is within its threshold: all inliers
@@ -174,10 +219,7 @@ GncResult runGnc(Graph& graph, const SolverRegistry& solvers, const GncOptions& 
     r.seconds = secondsSince(t0);
     return r;
   }
-  Optimizer::Options step_options = options.optimizer;
-  step_options.max_iterations = options.optimizer_iterations_per_step;
-  Optimizer optimizer(graph, solvers, step_options);
-  double known = known_chi2;
+  optimizer.mutableOptions().max_iterations = options.optimizer_iterations_per_step;
   for (int it = 1; it <= options.max_iterations; ++it) {
     const std::size_t undecided = cand.setWeights(mu, options.weight_tolerance);
     const Summary step = optimizer.optimize();
@@ -191,7 +233,7 @@ GncResult runGnc(Graph& graph, const SolverRegistry& solvers, const GncOptions& 
     }
     const double chi2 = graph.chi2();
     cand.readErrors();
-    known = chi2 - cand.candidateChi2();
+    const double known = chi2 - cand.candidateChi2();
     if (options.callback) {
       GncIterationStats s;
       s.iteration = it;
