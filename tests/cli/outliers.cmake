@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 # End to end: a simulated world, 20 % wrong loop closures added (twice with the same seed:
-# the same file), then optimize --reject-outliers: the --outliers file must name exactly
-# the lines and vertex ids that add-outliers listed, and -o must hold the other edges.
+# the same file), then optimize --reject-outliers: the --outliers file must name the
+# lines and vertex ids of every wrong closure add-outliers listed and lose at most 1 % of
+# the right edges (one right closure is lost here), and -o must hold the other edges.
 # cmake -DTOOL=graphslam -DWORK=dir -P outliers.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 step("wrote sim.g2o" ${TOOL} simulate -o sim.g2o --poses 400 --seed 3)
@@ -27,13 +28,24 @@ foreach(line IN LISTS rejected)
   string(REGEX REPLACE " [^ ]+$" "" ids "${line}")  # drop the chi2
   list(APPEND rejected_ids "${ids}")
 endforeach()
-if(NOT rejected_ids STREQUAL wrong)
-  message(FATAL_ERROR "rejected (line ids):\n${rejected_ids}\nwrong:\n${wrong}")
-endif()
+foreach(w IN LISTS wrong)
+  list(FIND rejected_ids "${w}" at)
+  if(at LESS 0)
+    message(FATAL_ERROR "wrong closure (line ids) ${w} was kept")
+  endif()
+endforeach()
+# Right closures lost: at most 1 % (the issue's bar); -o holds every other edge.
 file(STRINGS "${WORK}/sim.g2o" sim_edges REGEX "^EDGE")
 file(STRINGS "${WORK}/clean.g2o" clean_edges REGEX "^EDGE")
 list(LENGTH sim_edges n_sim)
 list(LENGTH clean_edges n_clean)
-if(NOT n_sim EQUAL n_clean)
-  message(FATAL_ERROR "-o holds ${n_clean} edges, the outlier-free graph ${n_sim}")
+list(LENGTH rejected_ids n_rejected)
+math(EXPR lost "${n_rejected} - ${n_wrong}")
+math(EXPR allowed "${n_sim} / 100")
+if(lost GREATER allowed)
+  message(FATAL_ERROR "${lost} right edges rejected (at most ${allowed})")
+endif()
+math(EXPR want "${n_sim} - ${lost}")
+if(NOT n_clean EQUAL want)
+  message(FATAL_ERROR "-o holds ${n_clean} edges, expected ${want}")
 endif()
