@@ -100,5 +100,6 @@ int cmdConvert(const std::vector<std::string>& args);
 int cmdInfo(const std::vector<std::string>& args);
 int cmdDrivebot(const std::vector<std::string>& args);
 int cmdSolvers(const std::vector<std::string>& args);
+int cmdAddOutliers(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

@@ -29,6 +29,7 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
+#include "outlier_options.h"
 #include "plotting.h"
 #include "robust_options.h"
 
@@ -51,6 +52,7 @@ constexpr const char* kOptimizeUsage =
     "                          [--stats FILE.csv] [--plot FILE.png] [--quiet] [--threads N]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
     "                          [--robust-kernel NAME[:WIDTH] [--robust-edges all|loop-closures|TAG]]\n"
+    "                          [--reject-outliers [--outliers FILE]]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
@@ -134,6 +136,7 @@ struct OptimizeOptions {
   bool quiet = false;
   Optimizer::Options options;
   RobustOptions robust;
+  OutlierCliOptions outliers;
 };
 
 void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
@@ -183,6 +186,7 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "marginals-tag", po::value(&o.marginals_tag),
       "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)");
   declareRobustOptions(desc, o.robust);
+  declareOutlierOptions(desc, o.outliers);
 }
 
 /// Parses and checks the options and fills the optimizer's; false after --help.
@@ -224,6 +228,7 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   options.max_iterations = o.iterations;
   options.linear_solver = o.solver;
   o.quiet = vm.count("quiet") != 0;
+  checkOutlierOptions(vm, o.outliers);
   return true;
 }
 
@@ -322,7 +327,16 @@ int cmdOptimize(const std::vector<std::string>& args) {
   checkRobustOptions(o.robust, reg.types);
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
-  applyInitialGuess(in, graph, o.init, reg.solvers);
+  if (o.outliers.reject) {
+    initializeFromKnownInliers(in, graph, o.init, reg.solvers, o.outliers);
+  } else {
+    applyInitialGuess(in, graph, o.init, reg.solvers);
+  }
+  outliers::GncResult gnc;
+  if (o.outliers.reject &&
+      !rejectOutliersForOptimize(graph, reg.solvers, o.options, o.outliers, o.quiet, gnc)) {
+    exitWithoutFreeing(kExitFailed);
+  }
   applyRobustOptions(o.robust, graph, reg.types);
   // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
@@ -342,6 +356,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
               << "\n";
     if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
     exitWithoutFreeing(kExitFailed);
+  }
+  if (!o.outliers.outliers_file.empty()) {
+    writeOutliersFile(o.outliers.outliers_file, gnc, in.edge_lines);
   }
   if (!o.output.empty()) {
     io::saveG2o(o.output, graph, reg.types);
@@ -473,6 +490,7 @@ constexpr const char* kMainUsage =
     "  info           counts, components, fixed vertices, sparsity picture of H\n"
     "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
+    "  add-outliers   append seeded random wrong loop closures to a 2D pose graph\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n"
     "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
@@ -515,6 +533,7 @@ int main(int argc, char** argv) {
     if (command == "info") return cmdInfo(args);
     if (command == "drivebot") return cmdDrivebot(args);
     if (command == "solvers") return cmdSolvers(args);
+    if (command == "add-outliers") return cmdAddOutliers(args);
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {

@@ -98,6 +98,7 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   }
   in.format = "g2o";
   in.graph = std::move(loaded.graph);
+  in.edge_lines = std::move(loaded.edge_lines);
   in.description = ".g2o graph";
   return in;
 }

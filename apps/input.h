@@ -39,6 +39,9 @@ struct LoadedInput {
   std::string description;                  ///< one line on what was read (for the user)
   std::vector<std::string> notes;           ///< further lines worth printing (model choice, ...)
   homework::PointGroundTruth ground_truth;  ///< empty unless the file has one
+  /// .g2o: the file line of each edge, in graph edge order (io::LoadResult::edge_lines);
+  /// empty for other formats.
+  std::vector<std::size_t> edge_lines;
   /// The file's estimates are a deliberate initial guess that the tool's default
   /// initialisation must keep (.npz: the homework's); false for .g2o files, which get
   /// the global SE(2) initialisation by default.

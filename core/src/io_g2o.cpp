@@ -479,6 +479,7 @@ class Reader {
       // The usual case: addEdge finds the vertices (no second look-up here).
       try {
         result_.graph.addEdge(std::move(p.edge));
+        result_.edge_lines.push_back(static_cast<std::size_t>(line_no));
         return true;
       } catch (const Error& err) {
         return report(line_no, edgeMessage(*p.tag, err.what()));

@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <unordered_map>
 #include <vector>
@@ -292,12 +293,14 @@ class PoseIndex {
   std::unordered_map<VertexId, int> hashed_;
 };
 
-/// The Problem of `graph`; its poses are empty when no EDGE_SE2 reaches any.
-Problem collectProblem(const Graph& graph) {
+/// The Problem of `graph` over the edges `use_edge` accepts (all when it is empty); its
+/// poses are empty when no such EDGE_SE2 reaches any.
+Problem collectProblem(const Graph& graph, const EdgeFilter& use_edge) {
   Problem p;
   std::vector<const EdgePriorSE2*> all_priors;
   std::vector<const EdgeSE2XY*> all_observations;
   for (const auto& e : graph.edges()) {
+    if (use_edge && !use_edge(*e)) continue;
     if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
       p.relative.push_back(se2);
     } else if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
@@ -511,10 +514,15 @@ bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
 InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(graph, nullptr); }
 
 InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
+  return initializeGlobal(graph, solver, EdgeFilter{});
+}
+
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver,
+                                      const EdgeFilter& use_edge) {
   const auto t0 = std::chrono::steady_clock::now();
   InitializationReport report;
   SpdSolver spd(solver);
-  const Problem p = collectProblem(graph);
+  const Problem p = collectProblem(graph, use_edge);
   const int n = p.size();
   if (n == 0) {
     report.message = "no EDGE_SE2 in the graph: nothing to initialise";

@@ -41,6 +41,10 @@ struct LoadResult {
   /// Lines read (a last line without a line end counts): every line up to the end of the
   /// input, or up to the line that stopped a strict load.
   std::size_t lines = 0;
+  /// The 1-based file line of each edge of `graph`, in graph edge order (edges are added
+  /// in file order for every thread count), so `edge_lines[k]` is the line of
+  /// `graph.edges()[k]` as loaded.
+  std::vector<std::size_t> edge_lines;
   bool failed = false;  ///< strict mode met an error; `graph` holds what was read before it
   [[nodiscard]] bool ok() const { return !failed; }
 };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "graphslam/core/graph.h"
@@ -37,5 +38,14 @@ InitializationReport initializeGlobal(Graph& graph);
 /// nested-dissection ordering and a supernodal factorisation on large graphs, where the
 /// default takes minutes). A null solver means the default.
 InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver);
+
+/// Which edges an initialisation may use (true: use it).
+using EdgeFilter = std::function<bool(const Edge&)>;
+
+/// The same from the edges `use_edge` accepts only (all when it is empty): e.g. the
+/// odometry and priors of a graph whose loop closures may be wrong, which would spoil a
+/// guess made from every edge. Vertices that no accepted edge reaches are left alone.
+InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver,
+                                      const EdgeFilter& use_edge);
 
 }  // namespace graphslam::init
