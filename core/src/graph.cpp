@@ -142,6 +142,16 @@ bool Graph::removeVertex(VertexId id) {
   return true;
 }
 
+void Graph::setEdgeActive(Edge& edge, bool active) {
+  const Vertex* v = edge.in_graph_ && edge.numVertices() > 0 ? edge.vertex(0) : nullptr;
+  const bool mine = v && vertex(v->id()) == v &&
+                    std::find(v->edges().begin(), v->edges().end(), &edge) != v->edges().end();
+  if (!mine) throw Error("setEdgeActive: the edge is not in this graph");
+  if (edge.active_ == active) return;
+  edge.active_ = active;
+  ++version_;
+}
+
 bool Graph::removeEdge(const Edge* edge) {
   return removeEdges([edge](const Edge& e) { return &e == edge; }) != 0;
 }
@@ -184,7 +194,7 @@ double Graph::chi2() {
   double sum = 0.0;
   for (auto& e : edges_) {
     e->computeError();
-    sum += e->chi2();
+    if (e->active()) sum += e->chi2();
   }
   return sum;
 }

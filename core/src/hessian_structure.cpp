@@ -67,7 +67,10 @@ void HessianStructure::assignColumns(Graph& graph, const std::vector<int>* block
   for (const auto& [id, v] : graph.vertices()) {
     fixed_snapshot_.push_back(static_cast<char>(v->fixed()));
     v->build_block_ = -1;
-    if (v->fixed() || v->edges().empty()) continue;
+    if (v->fixed() || std::none_of(v->edges().begin(), v->edges().end(),
+                                   [](const Edge* e) { return e->active(); })) {
+      continue;
+    }
     active_vertices_.push_back(v.get());
   }
   lower_ = block_order != nullptr;
@@ -112,6 +115,7 @@ void HessianStructure::collectEdges(const Graph& graph, std::vector<std::pair<in
   edge_b_start_.clear();
   edge_b_start_.reserve(graph.edges().size() + 1);
   for (const auto& e : graph.edges()) {
+    if (!e->active()) continue;
     blocks.clear();
     for (std::size_t s = 0; s < e->numVertices(); ++s) blocks.push_back(block_of(e->vertex(s)));
     int first = nb;

@@ -173,6 +173,10 @@ double LinearSystem::computeChi2(Graph& graph) {
   impl_->pool->parallelFor(edges.size(), kMinEdgesPerThread,
                            [&](std::size_t begin, std::size_t end) {
                              for (std::size_t k = begin; k < end; ++k) {
+                               if (!edges[k]->active()) {
+                                 chi2[k] = 0.0;
+                                 continue;
+                               }
                                edges[k]->computeError();
                                chi2[k] = edges[k]->robustChi2();
                              }
@@ -184,7 +188,7 @@ double LinearSystem::computeChi2(Graph& graph) {
 
 double LinearSystem::rawChi2(const Graph& graph) const {
   double sum = 0.0;
-  for (const auto& e : graph.edges()) sum += e->chi2();
+  for (const auto& e : graph.edges()) sum += e->active() ? e->chi2() : 0.0;
   return sum;
 }
 
@@ -315,11 +319,14 @@ Vertex* fixGaugeIfFree(Graph& graph) {
   if (std::any_of(vertices.begin(), vertices.end(),
                   [](const auto& kv) { return kv.second->fixed(); }) ||
       std::any_of(edges.begin(), edges.end(),
-                  [](const auto& e) { return e->numVertices() == 1; })) {
+                  [](const auto& e) { return e->active() && e->numVertices() == 1; })) {
     return nullptr;
   }
   for (const auto& [id, v] : vertices) {
-    if (v->edges().empty()) continue;
+    if (std::none_of(v->edges().begin(), v->edges().end(),
+                     [](const Edge* e) { return e->active(); })) {
+      continue;
+    }
     v->setFixed(true);
     return v.get();
   }

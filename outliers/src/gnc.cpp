@@ -26,7 +26,7 @@ double secondsSince(Clock::time_point t0) {
 /// own kernels when destroyed.
 class Candidates {
  public:
-  Candidates(Graph& graph, const GncOptions& o) {
+  Candidates(Graph& graph, const GncOptions& o) : graph_(graph) {
     const auto& edges = graph.edges();
     for (std::size_t k = 0; k < edges.size(); ++k) {
       Edge& e = *edges[k];
@@ -44,7 +44,10 @@ class Candidates {
     w_.assign(edge_.size(), 1.0);
   }
   ~Candidates() {
-    for (std::size_t k = 0; k < edge_.size(); ++k) edge_[k]->setRobustKernel(saved_[k]);
+    for (std::size_t k = 0; k < edge_.size(); ++k) {
+      edge_[k]->setRobustKernel(saved_[k]);
+      graph_.setEdgeActive(*edge_[k], true);
+    }
   }
   Candidates(const Candidates&) = delete;
   Candidates& operator=(const Candidates&) = delete;
@@ -54,13 +57,17 @@ class Candidates {
   void readErrors() {
     for (std::size_t k = 0; k < edge_.size(); ++k) s_[k] = edge_[k]->chi2();
   }
-  /// Sets every weight for control mu; returns how many are undecided.
+  /// Sets every weight for control mu; returns how many are undecided. An edge of weight
+  /// 0 is left out of the optimisation (Graph::setEdgeActive) until its weight rises
+  /// again: it adds nothing to H but its fill-in, which random wrong loop closures make
+  /// large.
   std::size_t setWeights(double mu, double tolerance) {
     std::size_t undecided = 0;
     for (std::size_t k = 0; k < edge_.size(); ++k) {
       w_[k] = tlsWeight(s_[k], c2_[k], mu);
       kernel_[k]->setWeight(w_[k]);
-      if (w_[k] > tolerance && w_[k] < 1.0 - tolerance) ++undecided;
+      graph_.setEdgeActive(*edge_[k], w_[k] > 0.0);
+      if (w_[k] > 0.0 && w_[k] < 1.0 - tolerance) ++undecided;
     }
     return undecided;
   }
@@ -74,9 +81,10 @@ class Candidates {
     for (std::size_t k = 0; k < edge_.size(); ++k) c += w_[k] * s_[k];
     return c;
   }
+  /// sum s_k over the active candidates (what Graph::chi2() adds of them).
   [[nodiscard]] double candidateChi2() const {
     double c = 0.0;
-    for (double s : s_) c += s;
+    for (std::size_t k = 0; k < edge_.size(); ++k) c += edge_[k]->active() ? s_[k] : 0.0;
     return c;
   }
   const std::vector<double>& s() const { return s_; }
@@ -98,6 +106,7 @@ class Candidates {
   }
 
  private:
+  Graph& graph_;
   std::vector<std::size_t> index_;
   std::vector<Edge*> edge_;
   std::vector<double> c2_, s_, w_;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "graphslam/core/error.h"
 #include "graphslam/core/fixed_edge.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/simulation/simulator.h"
@@ -196,4 +197,37 @@ TEST(Minimizer_Recovery, DefaultSwitchesToDampingWhenTheUndampedSystemFails) {
   for (std::size_t k = first_damped; k < s.per_iteration.size(); ++k) {
     EXPECT_GT(s.per_iteration[k].lambda, 0.0) << k;
   }
+}
+
+TEST(Minimizer_ActiveEdges, InactiveEdgesAreLeftOutOfTheOptimisation) {
+  Graph g = rangeOnlyPoint();
+  // A wrong prior-like offset from point 0 to point 2 that, active, would pull point 2.
+  auto wrong = std::make_unique<EdgeOffset>();
+  wrong->setVertexIds({0, 2});
+  wrong->setMeasurement({10, 10});
+  Edge& e = g.addEdge(std::move(wrong));
+  const auto version = g.structureVersion();
+  g.setEdgeActive(e, false);
+  EXPECT_FALSE(e.active());
+  EXPECT_NE(g.structureVersion(), version);
+  const Summary s = optimize(g, Algorithm::kLevenbergMarquardt, "cholmod");
+  EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
+  EXPECT_LT(s.final_chi2, 1e-12);  // the inactive edge's error is not in the objective
+  EXPECT_LT(g.chi2(), 1e-12);       // Graph::chi2 sums the active edges...
+  EXPECT_GT(e.chi2(), 1.0);         // ...after computing every error
+  // Only inactive edges: point 3 is not optimised (nothing determines it).
+  addPoint(g, 3, {7, 7});
+  auto lone = std::make_unique<EdgeOffset>();
+  lone->setVertexIds({0, 3});
+  lone->setMeasurement({1, 1});
+  g.setEdgeActive(g.addEdge(std::move(lone)), false);
+  const Summary t = optimize(g, Algorithm::kGaussNewtonFallback, "cholmod");
+  EXPECT_EQ(t.status, TerminationStatus::kConverged) << t.message;
+  EXPECT_EQ(t.num_vertices, 2u);  // points 1 and 2
+  EXPECT_EQ(static_cast<const VertexXY*>(g.vertex(3))->estimate(), Eigen::Vector2d(7, 7));
+  g.setEdgeActive(e, true);
+  const Summary u = optimize(g, Algorithm::kGaussNewtonFallback, "cholmod");
+  EXPECT_GT(u.final_chi2, 1.0);  // active again, the wrong edge counts
+  Graph other = rangeOnlyPoint();
+  EXPECT_THROW(other.setEdgeActive(e, false), Error);
 }

@@ -109,6 +109,12 @@ class Edge {
   /// e^T Omega e of the stored error.
   [[nodiscard]] virtual double chi2() const = 0;
 
+  /// Inactive edges stay in the graph (and in the files written from it) but are left out
+  /// of the optimisation: not in H, b or the objective, and a vertex whose edges are all
+  /// inactive is not optimised (g2o's edge levels, with one level). Set through
+  /// Graph::setEdgeActive.
+  [[nodiscard]] bool active() const { return active_; }
+
   /// The robust kernel applied to this edge (none by default: plain least squares).
   void setRobustKernel(std::shared_ptr<const RobustKernel> kernel) {
     robust_kernel_ = std::move(kernel);
@@ -195,6 +201,7 @@ class Edge {
   int arity_;
   std::uint32_t num_vertices_ = 0;
   bool in_graph_ = false;  // vertices resolved by Graph::addEdge
+  bool active_ = true;
   union {
     VertexId inline_ids_[kInlineVertices];
     VertexId* heap_ids_;

@@ -34,6 +34,9 @@ class Graph {
   bool removeVertex(VertexId id);
   /// Returns false if the edge is not in this graph.
   bool removeEdge(const Edge* edge);
+  /// Includes the edge in the optimisation or leaves it out (Edge::active). Throws
+  /// graphslam::Error when the edge is not in this graph.
+  void setEdgeActive(Edge& edge, bool active);
   /// Removes every edge for which `pred` is true; returns how many.
   std::size_t removeEdges(const std::function<bool(const Edge&)>& pred);
   void clear();
@@ -55,7 +58,7 @@ class Graph {
   /// sparsity structure when this changes.
   [[nodiscard]] std::uint64_t structureVersion() const { return version_; }
 
-  /// sum of chi2 over all edges after recomputing their errors.
+  /// Sum of chi2 over the active edges after recomputing the errors of all edges.
   [[nodiscard]] double chi2();
 
  private:

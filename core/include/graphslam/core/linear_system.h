@@ -49,7 +49,7 @@ class LinearSystem {
   void setThreads(int threads);
   [[nodiscard]] int threads() const;
 
-  /// Calls computeError() of every edge of `graph` and returns the objective: the sum of
+  /// Calls computeError() of every active edge of `graph` and returns the objective: the sum of
   /// their robustChi2() in edge order (what Graph::chi2() returns when no edge has a
   /// robust kernel), in parallel with setThreads().
   double computeChi2(Graph& graph);

@@ -37,7 +37,7 @@ struct GncIterationStats {
   double mu = 0.0;           ///< the control parameter the step's weights were made with
   double cost = 0.0;         ///< sum of w_k chi2_k (known inliers: w = 1) after the step
   std::size_t inliers = 0;   ///< candidates of weight >= rejection_weight
-  std::size_t undecided = 0; ///< candidates whose weight is neither 0 nor 1 (within weight_tolerance)
+  std::size_t undecided = 0; ///< candidates whose weight is neither 0 nor 1 (weight_tolerance)
   int optimizer_iterations = 0;
   double elapsed = 0.0;      ///< seconds since the GNC started
 };
@@ -77,7 +77,10 @@ struct GncOptions {
   /// (without it all are rejected), but spoils ringcity (nearly all right closures then
   /// rejected) where the odometry start alone is exact.
   int initial_least_squares_iterations = 0;
-  /// A weight within this of 0 or 1 counts as decided (GTSAM's weightsTol).
+  /// A weight within this of 1 counts as decided (GTSAM's weightsTol); one near 0 only
+  /// when it is 0 (the TLS weight is exactly 0 beyond (mu + 1) / mu c^2): at a small mu
+  /// every far-off edge has a tiny weight, right ones included, and stopping there would
+  /// reject every loop closure the start has not closed yet.
   double weight_tolerance = 1e-4;
   /// After the GNC, candidates whose weight is below this are rejected.
   double rejection_weight = 0.5;
