@@ -9,6 +9,7 @@
 #include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/init/initialization.h"
+#include "graphslam/outliers/robust_init.h"
 
 namespace graphslam::apps {
 
@@ -18,7 +19,7 @@ void declareOutlierOptions(po::options_description& desc, OutlierCliOptions& o) 
       "reject-outliers",
       "reject wrong measurements by graduated non-convexity (truncated least squares; odometry "
       "and priors are known inliers, every other edge a candidate), then optimise the inliers; "
-      "the global initialisation then uses the known inliers only")(
+      "a global initialisation is then made robust too (--gnc-init)")(
       "outliers", po::value(&o.outliers_file),
       "with --reject-outliers: write one line per rejected edge here (its line in IN, its "
       "vertex ids, its chi2 at the end of the GNC)")(
@@ -35,11 +36,22 @@ void declareOutlierOptions(po::options_description& desc, OutlierCliOptions& o) 
           ->default_value(g.initial_least_squares_iterations),
       "GNC: least-squares iterations over every edge before the first step (0: none)")(
       "gnc-max-steps", po::value(&g.max_iterations)->default_value(g.max_iterations),
-      "GNC: at most this many steps");
+      "GNC: at most this many steps")(
+      "gnc-init", po::value(&o.init_choice)->default_value(o.init_choice),
+      "GNC's start when the initialisation is global: robust (the global initialisation by "
+      "graduated non-convexity over every edge, checked against the nonlinear GNC by the "
+      "truncated-least-squares cost) or known-inliers (from the odometry and priors only)")(
+      "gnc-no-verify", po::bool_switch(),
+      "with --gnc-init robust: take the initialisation's rejection without the nonlinear "
+      "GNC's (faster)");
 }
 
 void checkOutlierOptions(const po::variables_map& vm, OutlierCliOptions& o) {
   o.reject = vm.count("reject-outliers") != 0;
+  if (o.init_choice != "robust" && o.init_choice != "known-inliers")
+    throw UsageError("--gnc-init must be robust or known-inliers, not '" + o.init_choice + "'");
+  o.robust_init = o.init_choice == "robust";
+  o.gnc.verify = !vm["gnc-no-verify"].as<bool>();
   if (!o.outliers_file.empty() && !o.reject) throw UsageError("--outliers needs --reject-outliers");
   const outliers::GncOptions& g = o.gnc;
   if (!(g.inlier_probability > 0 && g.inlier_probability < 1))
@@ -54,10 +66,14 @@ void checkOutlierOptions(const po::variables_map& vm, OutlierCliOptions& o) {
 }
 
 void initializeFromKnownInliers(const LoadedInput& in, Graph& graph, std::string init,
-                                const SolverRegistry& solvers, const OutlierCliOptions& o) {
+                                const SolverRegistry& solvers, OutlierCliOptions& o) {
   if (init == "auto") init = in.keep_initial_guess ? "none" : "global";
   if (init != "global") {
     applyInitialGuess(in, graph, init, solvers);
+    return;
+  }
+  if (o.robust_init) {  // rejectOutliersForOptimize places the graph
+    o.global_start = true;
     return;
   }
   const auto known = o.gnc.is_known_inlier ? o.gnc.is_known_inlier : outliers::isOdometryOrUnary;
@@ -74,6 +90,23 @@ void initializeFromKnownInliers(const LoadedInput& in, Graph& graph, std::string
   }
 }
 
+namespace {
+void printGlobalStart(const outliers::GlobalStartReport& s) {
+  std::printf(
+      "initialisation: global with graduated non-convexity, %d weighted placements, %zu of "
+      "%zu candidate edges at weight 0 (%.4f s)%s\n",
+      s.init.steps, s.init.zero_weight, s.init.candidates, s.init.seconds,
+      s.init.converged ? "" : "; weights not all decided: the nonlinear GNC goes on from there");
+  if (s.cost_by_gnc >= 0.0) {
+    std::printf("truncated-least-squares cost: %.10g by the initialisation's rejection, %.10g by "
+                "the nonlinear GNC's: the %s stands\n",
+                s.cost_by_initialization, s.cost_by_gnc,
+                s.chose_gnc ? "nonlinear GNC's" : "initialisation's");
+  }
+  std::fflush(stdout);
+}
+}  // namespace
+
 bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
                                const Optimizer::Options& optimizer, OutlierCliOptions& o,
                                bool quiet, outliers::GncResult& result) {
@@ -87,7 +120,14 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
   };
   // The optimizer's notes (the gauge it fixes) would repeat at every step.
   setLogLevel(LogLevel::kWarning);
-  result = outliers::runGnc(graph, solvers, o.gnc);
+  if (o.global_start) {
+    const auto init_solver = solvers.create("auto");
+    outliers::GlobalStartReport start;
+    result = outliers::rejectFromGlobalStart(graph, solvers, init_solver.get(), o.gnc, &start);
+    printGlobalStart(start);
+  } else {
+    result = outliers::runGnc(graph, solvers, o.gnc);
+  }
   setLogLevel(LogLevel::kInfo);
   if (!result.ok) {
     std::cerr << "outlier rejection failed: " << result.message << "\n";

@@ -11,6 +11,7 @@
 #include "graphslam/core/graph.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/outliers/gnc.h"
+#include "graphslam/outliers/robust_init.h"
 #include "input.h"
 
 namespace graphslam::apps {
@@ -19,6 +20,12 @@ namespace graphslam::apps {
 struct OutlierCliOptions {
   bool reject = false;        ///< --reject-outliers
   std::string outliers_file;  ///< --outliers FILE
+  /// --gnc-init robust (true): with a global initialisation, outliers::rejectFromGlobalStart
+  /// places the graph and rejects; known-inliers: the initialisation from the odometry and
+  /// priors only, then outliers::runGnc.
+  bool robust_init = true;
+  std::string init_choice = "robust";  ///< --gnc-init as given
+  bool global_start = false;           ///< set by initializeFromKnownInliers
   outliers::GncOptions gnc;
 };
 
@@ -33,7 +40,7 @@ void checkOutlierOptions(const boost::program_options::variables_map& vm, Outlie
 /// initialisation uses the known inliers only (odometry and priors), which the wrong loop
 /// closures cannot spoil. Prints one line on what was done.
 void initializeFromKnownInliers(const LoadedInput& in, Graph& graph, std::string init,
-                                const SolverRegistry& solvers, const OutlierCliOptions& o);
+                                const SolverRegistry& solvers, OutlierCliOptions& o);
 
 /// Runs the GNC with `optimizer` options for its steps, prints its progress (unless quiet)
 /// and its outcome, and removes the rejected edges from `graph`. Returns false (after

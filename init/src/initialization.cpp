@@ -176,8 +176,10 @@ struct Problem {
   std::vector<VertexSE2*> poses;
   std::vector<const EdgeSE2*> relative;
   std::vector<std::pair<int, int>> ends;  ///< (first pose, second pose) of each relative edge
+  std::vector<double> relative_weight;     ///< factor on each relative edge's information
   std::vector<std::pair<const EdgePriorSE2*, int>> priors;
   std::vector<std::pair<const EdgeSE2XY*, int>> observations;
+  std::vector<double> observation_weight;  ///< factor on each observation's information
   std::vector<char> anchored;  ///< per pose: fixed, or has a prior
   [[nodiscard]] int size() const { return static_cast<int>(poses.size()); }
 };
@@ -227,7 +229,8 @@ bool jointOrientations(const Problem& p, const std::vector<int>& obs_landmark, i
   for (std::size_t k = 0; k < relative.size(); ++k) {
     const EdgeSE2* e = relative[k];
     const auto [u, v] = ends[k];
-    const double wt = 0.5 * e->information().topLeftCorner<2, 2>().trace();
+    const double scale = p.relative_weight[k];
+    const double wt = scale * 0.5 * e->information().topLeftCorner<2, 2>().trace();
     addResidual<3>(sys,
                    {{{t_of(v), id, t_known(v)},
                      {t_of(u), -id, t_known(u)},
@@ -236,11 +239,11 @@ bool jointOrientations(const Problem& p, const std::vector<int>& obs_landmark, i
     addResidual<2>(
         sys,
         {{{r_of(v), id, r_known(v)}, {r_of(u), -rotation2(e->measurement().angle()), r_known(u)}}},
-        e->information()(2, 2));
+        scale * e->information()(2, 2));
   }
   for (std::size_t k = 0; k < observations.size(); ++k) {
     const auto [obs, i] = observations[k];
-    const double wl = 0.5 * obs->information().trace();
+    const double wl = p.observation_weight[k] * 0.5 * obs->information().trace();
     const Eigen::Vector2d xl = static_cast<const VertexXY*>(obs->vertex(1))->estimate();
     addResidual<3>(sys,
                    {{{obs_lm[k], id, xl},
@@ -293,20 +296,22 @@ class PoseIndex {
   std::unordered_map<VertexId, int> hashed_;
 };
 
-/// The Problem of `graph` over the edges `use_edge` accepts (all when it is empty); its
-/// poses are empty when no such EDGE_SE2 reaches any.
-Problem collectProblem(const Graph& graph, const EdgeFilter& use_edge) {
+/// The Problem of `graph` over the edges of positive `weight` (all, of weight 1, when it
+/// is empty); its poses are empty when no such EDGE_SE2 reaches any.
+Problem collectProblem(const Graph& graph, const EdgeWeight& weight) {
   Problem p;
   std::vector<const EdgePriorSE2*> all_priors;
-  std::vector<const EdgeSE2XY*> all_observations;
+  std::vector<std::pair<const EdgeSE2XY*, double>> all_observations;
   for (const auto& e : graph.edges()) {
-    if (use_edge && !use_edge(*e)) continue;
+    const double w = weight ? weight(*e) : 1.0;
+    if (!(w > 0.0)) continue;
     if (const auto* se2 = dynamic_cast<const EdgeSE2*>(e.get())) {
       p.relative.push_back(se2);
+      p.relative_weight.push_back(w);
     } else if (const auto* prior = dynamic_cast<const EdgePriorSE2*>(e.get())) {
       all_priors.push_back(prior);
     } else if (const auto* obs = dynamic_cast<const EdgeSE2XY*>(e.get())) {
-      all_observations.push_back(obs);
+      all_observations.emplace_back(obs, w);
     }
   }
   PoseIndex index(graph, 2 * p.relative.size());
@@ -332,9 +337,11 @@ Problem collectProblem(const Graph& graph, const EdgeFilter& use_edge) {
     p.anchored[static_cast<std::size_t>(i)] = 1;
     p.priors.emplace_back(prior, i);
   }
-  for (const EdgeSE2XY* obs : all_observations) {
+  for (const auto& [obs, w] : all_observations) {
     const int i = pose_index(obs->vertex(0));
-    if (i >= 0) p.observations.emplace_back(obs, i);
+    if (i < 0) continue;
+    p.observations.emplace_back(obs, i);
+    p.observation_weight.push_back(w);
   }
   return p;
 }
@@ -413,7 +420,7 @@ bool odometryOrientations(const Problem& p, const std::vector<int>& var, int nv,
   for (std::size_t k = 0; k < p.relative.size(); ++k) {
     const EdgeSE2* edge = p.relative[k];
     const auto [u, v] = p.ends[k];
-    const double w = edge->information()(2, 2);
+    const double w = p.relative_weight[k] * edge->information()(2, 2);
     const Eigen::Matrix2d q = rotation2(edge->measurement().angle());
     const int a = var[u], b = var[v];
     // w |r_v - q r_u|^2: blocks (u,u) = (v,v) = w I, (u,v) = -w q^T, (v,u) = -w q.
@@ -477,7 +484,8 @@ bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
     const EdgeSE2* edge = p.relative[k];
     const auto [u, v] = p.ends[k];
     const Eigen::Matrix2d r = rotation2(theta[u]) * edge->measurement().rotation();
-    const Eigen::Matrix2d w = r * edge->information().topLeftCorner<2, 2>() * r.transpose();
+    const Eigen::Matrix2d w =
+        p.relative_weight[k] * r * edge->information().topLeftCorner<2, 2>() * r.transpose();
     addDifference(sys, var[u], pos(u), var[v], pos(v),
                   rotation2(theta[u]) * edge->measurement().translation(), w);
   }
@@ -485,7 +493,7 @@ bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
     const auto [obs, i] = p.observations[k];
     const Eigen::Vector2d xl = static_cast<const VertexXY*>(obs->vertex(1))->estimate();
     const Eigen::Matrix2d r = rotation2(theta[i]);
-    const Eigen::Matrix2d w = r * obs->information() * r.transpose();
+    const Eigen::Matrix2d w = p.observation_weight[k] * r * obs->information() * r.transpose();
     addDifference(sys, var[i], pos(i), obs_var[k], xl, r * obs->measurement(), w);
   }
   for (const auto& [prior, i] : p.priors) {
@@ -519,10 +527,17 @@ InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver) {
 
 InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver,
                                       const EdgeFilter& use_edge) {
+  if (!use_edge) return initializeGlobalWeighted(graph, solver, EdgeWeight{});
+  return initializeGlobalWeighted(graph, solver,
+                                  [&use_edge](const Edge& e) { return use_edge(e) ? 1.0 : 0.0; });
+}
+
+InitializationReport initializeGlobalWeighted(Graph& graph, LinearSolver* solver,
+                                              const EdgeWeight& weight) {
   const auto t0 = std::chrono::steady_clock::now();
   InitializationReport report;
   SpdSolver spd(solver);
-  const Problem p = collectProblem(graph, use_edge);
+  const Problem p = collectProblem(graph, weight);
   const int n = p.size();
   if (n == 0) {
     report.message = "no EDGE_SE2 in the graph: nothing to initialise";

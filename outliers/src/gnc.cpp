@@ -184,6 +184,8 @@ void checkOptions(const GncOptions& o) {
     throw Error("GncOptions::inlier_probability must be in (0, 1)");
   if (!(o.mu_step > 1.0 && std::isfinite(o.mu_step)))
     throw Error("GncOptions::mu_step must be a finite number > 1");
+  if (!(o.initial_mu >= 0.0 && std::isfinite(o.initial_mu)))
+    throw Error("GncOptions::initial_mu must be a finite number >= 0");
   if (!(o.min_initial_mu > 0.0 && std::isfinite(o.min_initial_mu)))
     throw Error("GncOptions::min_initial_mu must be a positive finite number");
   if (o.max_iterations < 1) throw Error("GncOptions::max_iterations must be at least 1");
@@ -220,7 +222,9 @@ GncResult runGnc(Graph& graph, const SolverRegistry& solvers, const GncOptions& 
   }
   (void)graph.chi2();
   cand.readErrors();
-  r.initial_mu = initialMu(cand.s(), cand.c2(), options.min_initial_mu);
+  r.initial_mu = options.initial_mu > 0.0
+                     ? options.initial_mu
+                     : initialMu(cand.s(), cand.c2(), options.min_initial_mu);
   double mu = r.initial_mu;
   if (mu < 0.0) {  // every candidate is within its threshold: all inliers
     r.converged = true;

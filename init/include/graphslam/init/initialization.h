@@ -48,4 +48,13 @@ using EdgeFilter = std::function<bool(const Edge&)>;
 InitializationReport initializeGlobal(Graph& graph, LinearSolver* solver,
                                       const EdgeFilter& use_edge);
 
+/// A factor on an edge's information in the initialisation (0: the edge is not used).
+using EdgeWeight = std::function<double(const Edge&)>;
+
+/// The same with every edge's information scaled by `weight` (all 1 when it is empty):
+/// the weighted least-squares problems of both steps, e.g. for graduated non-convexity
+/// over the initialisation (outliers::robustInitialization).
+InitializationReport initializeGlobalWeighted(Graph& graph, LinearSolver* solver,
+                                              const EdgeWeight& weight);
+
 }  // namespace graphslam::init

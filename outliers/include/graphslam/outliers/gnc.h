@@ -61,6 +61,9 @@ struct GncOptions {
   /// Factor mu grows by per step (the paper's and GTSAM's 1.4 for TLS; 2 with three
   /// iterations per step was as accurate on the benchmarks in half the steps).
   double mu_step = 2.0;
+  /// mu of the first step; 0: from the residuals at the start (Remark 5). A start that
+  /// already separates the outliers (robustInitialization) passes its final mu.
+  double initial_mu = 0.0;
   /// Smallest mu_0 (GTSAM's floor: a huge residual would otherwise start at mu ~ 0).
   double min_initial_mu = 1e-6;
   /// At most this many GNC steps (GTSAM: 100).
@@ -82,6 +85,9 @@ struct GncOptions {
   /// every far-off edge has a tiny weight, right ones included, and stopping there would
   /// reject every loop closure the start has not closed yet.
   double weight_tolerance = 1e-4;
+  /// rejectFromGlobalStart: also run the nonlinear GNC from the initialisation's answer
+  /// and keep the answer of lower TLS cost (false: the initialisation's answer, faster).
+  bool verify = true;
   /// After the GNC, candidates whose weight is below this are rejected.
   double rejection_weight = 0.5;
   /// Edges that are never rejected (weight 1 throughout). Empty: isOdometryOrUnary.
