@@ -191,6 +191,8 @@ void checkOptions(const GncOptions& o) {
   if (o.max_iterations < 1) throw Error("GncOptions::max_iterations must be at least 1");
   if (o.initial_least_squares_iterations < 0)
     throw Error("GncOptions::initial_least_squares_iterations must be at least 0");
+  if (o.verify_iterations_per_step < 1)
+    throw Error("GncOptions::verify_iterations_per_step must be at least 1");
   if (o.optimizer_iterations_per_step < 1)
     throw Error("GncOptions::optimizer_iterations_per_step must be at least 1");
   if (!(o.weight_tolerance >= 0.0 && o.weight_tolerance < 0.5))

@@ -205,6 +205,7 @@ GncResult rejectFromGlobalStart(Graph& graph, const SolverRegistry& solvers,
   const std::vector<double> state = saveEstimates(graph);
   GncOptions from_here = options;
   from_here.initial_mu = 0.0;
+  from_here.optimizer_iterations_per_step = options.verify_iterations_per_step;
   GncResult by_gnc = runGnc(graph, solvers, from_here);
   if (by_gnc.ok) rep.cost_by_gnc = optimiseInliers(graph, solvers, options, by_gnc);
   rep.chose_gnc = by_gnc.ok && rep.cost_by_gnc < rep.cost_by_initialization;
