@@ -7,6 +7,7 @@
 #include <set>
 #include <utility>
 
+#include "corrupted_graph.h"
 #include "graphslam/core/error.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/outliers/gnc.h"
@@ -72,26 +73,12 @@ TEST(Outliers_Gnc, KnownInliersAreOdometryAndUnaryEdges) {
   EXPECT_EQ(known, 29u);
 }
 
+using test::Corrupted;
+
 /// A simulated Manhattan world with `fraction` wrong loop closures, initialised from the
 /// odometry only.
-struct Corrupted {
-  simulation::SimulatedGraph sim;
-  std::set<std::pair<VertexId, VertexId>> wrong;
-};
-
 Corrupted makeCorrupted(int poses, double fraction, std::uint64_t seed) {
-  simulation::ManhattanOptions o;
-  o.num_poses = poses;
-  o.seed = 7;
-  Corrupted c{simulation::simulateManhattan(o), {}};
-  simulation::WrongLoopClosureOptions w;
-  w.fraction = fraction;
-  w.seed = seed;
-  const auto added = simulation::addWrongLoopClosures(c.sim.graph, w);
-  for (std::size_t k : added.edge_indices) {
-    const Edge& e = *c.sim.graph.edges()[k];
-    c.wrong.emplace(e.vertexId(0), e.vertexId(1));
-  }
+  Corrupted c = test::makeCorrupted(poses, fraction, 7, seed);
   (void)init::initializeGlobal(c.sim.graph, nullptr, isOdometryOrUnary);
   return c;
 }

@@ -6,10 +6,9 @@
 #include <set>
 #include <utility>
 
+#include "corrupted_graph.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/outliers/robust_init.h"
-#include "graphslam/simulation/simulator.h"
-#include "graphslam/simulation/wrong_loop_closures.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 
@@ -18,25 +17,12 @@ using namespace graphslam::outliers;
 
 namespace {
 
-/// A simulated pose graph with wrong loop closures and every estimate zeroed (as an
-/// edges-only file would be), and the vertex pairs of the wrong closures.
-struct Corrupted {
-  simulation::SimulatedGraph sim;
-  std::set<std::pair<VertexId, VertexId>> wrong;
-};
+using test::Corrupted;
 
+/// A simulated pose graph with wrong loop closures and every estimate zeroed (as an
+/// edges-only file would be).
 Corrupted makeCorrupted(int poses, double fraction) {
-  simulation::ManhattanOptions o;
-  o.num_poses = poses;
-  o.seed = 11;
-  Corrupted c{simulation::simulateManhattan(o), {}};
-  simulation::WrongLoopClosureOptions w;
-  w.fraction = fraction;
-  w.seed = 5;
-  for (std::size_t k : simulation::addWrongLoopClosures(c.sim.graph, w).edge_indices) {
-    const Edge& e = *c.sim.graph.edges()[k];
-    c.wrong.emplace(e.vertexId(0), e.vertexId(1));
-  }
+  Corrupted c = test::makeCorrupted(poses, fraction, 11, 5);
   for (const auto& [id, v] : c.sim.graph.vertices()) {
     static_cast<types_slam2d::VertexSE2&>(*v).setEstimate(types_slam2d::SE2());
   }
