@@ -66,6 +66,14 @@ std::string doglegNote(int halvings) {
   return "  (dogleg step: trust radius = Gauss-Newton step / 2^" + std::to_string(halvings) + ")";
 }
 
+/// How the iteration line shows the dogleg algorithm's trust region.
+std::string radiusNote(double radius, int trials) {
+  char text[64];
+  std::snprintf(text, sizeof text, "  (trust radius %.3e, %d %s)", radius, trials,
+                trials == 1 ? "trial" : "trials");
+  return text;
+}
+
 /// How the iteration line marks a chord step.
 std::string chordNote(int cg_iterations) {
   return "  (chord step: previous factorisation, " + std::to_string(cg_iterations) +
@@ -284,6 +292,7 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
                   !s.accepted             ? "  (rejected)"
                   : s.attempts == 0       ? chordNote(s.cg_iterations).c_str()
                   : s.dogleg_halvings > 0 ? doglegNote(s.dogleg_halvings).c_str()
+                  : s.trust_radius > 0    ? radiusNote(s.trust_radius, s.dogleg_trials).c_str()
                                           : "");
       std::fflush(stdout);
     }
