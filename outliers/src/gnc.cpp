@@ -28,13 +28,14 @@ class Candidates {
  public:
   Candidates(Graph& graph, const GncOptions& o) : graph_(graph) {
     const auto& edges = graph.edges();
+    Chi2Thresholds threshold(o.inlier_probability);
     for (std::size_t k = 0; k < edges.size(); ++k) {
       Edge& e = *edges[k];
       const bool known = o.is_known_inlier ? o.is_known_inlier(e) : isOdometryOrUnary(e);
       if (known) continue;
       index_.push_back(k);
       edge_.push_back(&e);
-      c2_.push_back(chi2Threshold(e.dimension(), o.inlier_probability));
+      c2_.push_back(threshold(e.dimension()));
       saved_.push_back(e.sharedRobustKernel());
       auto kernel = std::make_shared<WeightKernel>(1.0);
       kernel_.push_back(kernel);
@@ -191,6 +192,10 @@ void checkOptions(const GncOptions& o) {
   if (o.max_iterations < 1) throw Error("GncOptions::max_iterations must be at least 1");
   if (o.initial_least_squares_iterations < 0)
     throw Error("GncOptions::initial_least_squares_iterations must be at least 0");
+  if (!(o.verify_margin >= 0.0 && std::isfinite(o.verify_margin)))
+    throw Error("GncOptions::verify_margin must be a finite number >= 0");
+  if (!(o.verify_max_ratio > 1.0))
+    throw Error("GncOptions::verify_max_ratio must be greater than 1");
   if (o.verify_iterations_per_step < 1)
     throw Error("GncOptions::verify_iterations_per_step must be at least 1");
   if (o.optimizer_iterations_per_step < 1)

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <unordered_map>
 
 #include "graphslam/core/error.h"
@@ -20,12 +19,13 @@ struct InitCandidates {
   std::vector<double> c2, s, w;
 
   InitCandidates(const Graph& graph, const GncOptions& o) {
+    Chi2Thresholds threshold(o.inlier_probability);
     for (const auto& e : graph.edges()) {
       const bool known = o.is_known_inlier ? o.is_known_inlier(*e) : isOdometryOrUnary(*e);
       if (known) continue;
       index.emplace(e.get(), edge.size());
       edge.push_back(e.get());
-      c2.push_back(chi2Threshold(e->dimension(), o.inlier_probability));
+      c2.push_back(threshold(e->dimension()));
     }
     s.assign(edge.size(), 0.0);
     w.assign(edge.size(), 1.0);
@@ -44,6 +44,23 @@ struct InitCandidates {
     return undecided;
   }
 };
+
+/// mu_0 by Remark 5 over the candidates whose chi2 is below initial_max_ratio times their
+/// threshold (the others start at weight 0); every candidate's when that is infinite.
+double initialMuBelow(const std::vector<double>& s, const std::vector<double>& c2,
+                      const GncOptions& options) {
+  std::vector<double> s_in, c2_in;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    if (s[k] < options.initial_max_ratio * c2[k]) {
+      s_in.push_back(s[k]);
+      c2_in.push_back(c2[k]);
+    }
+  }
+  const double mu = initialMu(s_in, c2_in, options.min_initial_mu);
+  if (mu > 0.0 || s_in.size() == s.size()) return mu;
+  // Every candidate below the bound is an inlier: start where the bound's are weight 0.
+  return initialMu({options.initial_max_ratio}, {1.0}, options.min_initial_mu);
+}
 
 }  // namespace
 
@@ -71,7 +88,7 @@ RobustInitReport robustInitialization(Graph& graph, LinearSolver* solver,
     (void)graph.chi2();
     for (std::size_t k = 0; k < cand.edge.size(); ++k) cand.s[k] = cand.edge[k]->chi2();
     if (step == 1) {
-      r.initial_mu = mu = initialMu(cand.s, cand.c2, options.min_initial_mu);
+      r.initial_mu = mu = initialMuBelow(cand.s, cand.c2, options);
       if (mu < 0.0) {  // every candidate within its threshold at the least-squares placement
         r.converged = true;
         break;
@@ -162,26 +179,35 @@ double optimiseInliers(Graph& graph, const SolverRegistry& solvers, const GncOpt
   return cost;
 }
 
+/// mu_0 of the verifying GNC (GncOptions::verify_max_ratio) from the errors stored at the
+/// initialisation's optimum; negative when no candidate lies between its threshold and
+/// the bound.
+double verifyInitialMu(const Graph& graph, const GncOptions& options) {
+  std::vector<double> s, c2;
+  Chi2Thresholds threshold(options.inlier_probability);
+  for (const auto& e : graph.edges()) {
+    const bool known =
+        options.is_known_inlier ? options.is_known_inlier(*e) : isOdometryOrUnary(*e);
+    if (known) continue;
+    const double t = threshold(e->dimension());
+    if (e->chi2() < options.verify_max_ratio * t) {
+      s.push_back(e->chi2());
+      c2.push_back(t);
+    }
+  }
+  return initialMu(s, c2, options.min_initial_mu);
+}
+
 }  // namespace
 
 double tlsCost(Graph& graph, const GncOptions& options) {
   (void)graph.chi2();
-  std::map<int, double> c2;  // by edge dimension
+  Chi2Thresholds threshold(options.inlier_probability);
   double cost = 0.0;
   for (const auto& e : graph.edges()) {
     const bool known =
         options.is_known_inlier ? options.is_known_inlier(*e) : isOdometryOrUnary(*e);
-    const double s = e->chi2();
-    if (known) {
-      cost += s;
-      continue;
-    }
-    auto it = c2.find(e->dimension());
-    if (it == c2.end()) {
-      it = c2.emplace(e->dimension(), chi2Threshold(e->dimension(), options.inlier_probability))
-               .first;
-    }
-    cost += std::min(s, it->second);
+    cost += known ? e->chi2() : std::min(e->chi2(), threshold(e->dimension()));
   }
   return cost;
 }
@@ -202,13 +228,19 @@ GncResult rejectFromGlobalStart(Graph& graph, const SolverRegistry& solvers,
   GncResult by_init = rejectionFromInitialization(graph, rep.init, options);
   rep.cost_by_initialization = optimiseInliers(graph, solvers, options, by_init);
   if (!by_init.ok || !options.verify) return by_init;
+  const double mu0 = verifyInitialMu(graph, options);
+  if (mu0 < 0.0) return by_init;  // nothing the nonlinear GNC could decide differently
   const std::vector<double> state = saveEstimates(graph);
   GncOptions from_here = options;
-  from_here.initial_mu = 0.0;
+  from_here.initial_mu = mu0;
   from_here.optimizer_iterations_per_step = options.verify_iterations_per_step;
   GncResult by_gnc = runGnc(graph, solvers, from_here);
   if (by_gnc.ok) rep.cost_by_gnc = optimiseInliers(graph, solvers, options, by_gnc);
-  rep.chose_gnc = by_gnc.ok && rep.cost_by_gnc < rep.cost_by_initialization;
+  double largest_c2 = 0.0;
+  Chi2Thresholds threshold(options.inlier_probability);
+  for (const auto& e : graph.edges()) largest_c2 = std::max(largest_c2, threshold(e->dimension()));
+  rep.chose_gnc = by_gnc.ok && rep.cost_by_gnc < rep.cost_by_initialization -
+                                                     options.verify_margin * largest_c2;
   if (rep.chose_gnc) {
     by_gnc.seconds += by_init.seconds;
     return by_gnc;

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,25 @@ struct GncOptions {
   /// iteration per step follows it (m3500, intel, ring, ringcity and city10000 with 10 %
   /// and 20 % wrong closures: the same rejection as three, in a third of the time).
   int verify_iterations_per_step = 1;
+  /// That GNC starts at the mu that gives weight 0 to the candidates whose chi2 at the
+  /// initialisation's optimum exceeds this many times their threshold (mu_0 by Remark 5
+  /// over the others): their wrong closures then stay out of H from the first step
+  /// (random wrong closures fill it in), while a misplaced group of right closures
+  /// (ringcity's: 104-130 times) is tried again. When no candidate lies between its
+  /// threshold and this bound, the GNC would only repeat the initialisation's answer and
+  /// is skipped.
+  double verify_max_ratio = 1000.0;
+  /// robustInitialization's mu_0 likewise: candidates whose chi2 at the least-squares
+  /// placement of every edge exceeds this many times their threshold start at weight 0
+  /// (infinity: Remark 5 over every candidate, as runGnc).
+  double initial_max_ratio = 1000.0;
+  /// The nonlinear GNC's answer replaces the initialisation's only when its TLS cost is
+  /// lower by more than this many candidate thresholds (the largest c^2): two answers
+  /// within one edge's worth are equally plausible, and the initialisation's keeps fewer
+  /// doubtful edges (m3500 with 20 % wrong closures: the nonlinear GNC absorbs one wrong
+  /// closure at a cost below c^2 and ends 0.097 m off; the initialisation's answer is
+  /// exact).
+  double verify_margin = 1.0;
   /// After the GNC, candidates whose weight is below this are rejected.
   double rejection_weight = 0.5;
   /// Edges that are never rejected (weight 1 throughout). Empty: isOdometryOrUnary.
@@ -111,6 +131,24 @@ struct GncOptions {
 
 /// c^2 for an edge of `dimension` (chi-square quantile at `probability`, in (0, 1)).
 [[nodiscard]] double chi2Threshold(int dimension, double probability);
+
+/// chi2Threshold at one probability, computed once per dimension (a quantile costs a few
+/// microseconds: tens of milliseconds over the edges of a large graph).
+class Chi2Thresholds {
+ public:
+  explicit Chi2Thresholds(double probability) : probability_(probability) {}
+  [[nodiscard]] double operator()(int dimension) {
+    auto it = cache_.find(dimension);
+    if (it == cache_.end()) {
+      it = cache_.emplace(dimension, chi2Threshold(dimension, probability_)).first;
+    }
+    return it->second;
+  }
+
+ private:
+  double probability_;
+  std::map<int, double> cache_;
+};
 
 /// The TLS weight of an edge with squared error s and threshold c2 at control mu > 0.
 [[nodiscard]] double tlsWeight(double s, double c2, double mu);
