@@ -63,6 +63,12 @@ Trajectory loadTrajectory(const std::string& path, const std::string& format,
 }
 
 void saveTrajectory(const std::string& path, const Trajectory& t, const std::string& format) {
+  // Reading takes any other name as TUM (evo's default); writing guesses nothing.
+  if (format == "auto" && !endsWith(path, ".tum") && !endsWith(path, ".txt") &&
+      !endsWith(path, ".kitti") && !endsWith(path, ".g2o")) {
+    throw UsageError("cannot tell the trajectory format of '" + path +
+                     "' from its name: end it in .tum, .txt or .kitti, or give --format tum|kitti");
+  }
   const std::string f = trajectoryFormat(path, format);
   if (f == "g2o") throw UsageError("write trajectories as TUM or KITTI, not .g2o");
   writeFileAtomically(path, [&](std::ostream& out) {

@@ -173,7 +173,8 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
                 options_.linear_solver + " solves the Jacobian form");
   }
   summary.num_vertices = im.structure.activeVertices().size();
-  summary.num_edges = graph_.numEdges();
+  summary.num_edges = static_cast<std::size_t>(std::count_if(
+      graph_.edges().begin(), graph_.edges().end(), [](const auto& e) { return e->active(); }));
   summary.system_dimension = im.structure.dimension();
   summary.hessian_nonzeros = im.structure.hessianStructure().nnz();
   summary.initial_cost = im.evalChi2(graph_);
