@@ -78,8 +78,12 @@ std::string Summary::report() const {
     for (VertexId id : gauge_fixed) s << ' ' << id;
   }
   for (const auto& group : unanchored) {
-    s << "\nunanchored:    vertices";
+    s << "\nno anchor:     vertices";
     for (VertexId id : group) s << ' ' << id;
+    if (std::find(gauge_fixed.begin(), gauge_fixed.end(), group.front()) != gauge_fixed.end()) {
+      s << " (a component without a fixed vertex or prior: fixed its vertex " << group.front()
+        << ")";
+    }
   }
   return s.str();
 }

@@ -106,10 +106,13 @@ struct Summary {
   int system_dimension = 0;
   std::size_t hessian_nonzeros = 0;  ///< stored non-zeros (upper triangle, full diagonal blocks)
   std::size_t factor_nonzeros = 0;
-  /// Vertices the optimizer fixed to remove the gauge freedom (see Options::fix_gauge).
+  /// Vertices the optimizer fixed to remove the gauge freedom (see Options::fix_gauge): the
+  /// lowest id when nothing anchors the graph, and the lowest id of every further component
+  /// in `unanchored`.
   std::vector<VertexId> gauge_fixed;
-  /// Connected groups of non-fixed vertices with no fixed vertex and no unary edge: their
-  /// position is undetermined. Each holds up to 20 ids (smallest first).
+  /// Connected groups of non-fixed vertices with no fixed vertex and no unary edge besides
+  /// the one the lowest id anchors: their position is undetermined (with fix_gauge, each
+  /// is anchored at its first id for the run). Each holds up to 20 ids (smallest first).
   std::vector<std::vector<VertexId>> unanchored;
 
   [[nodiscard]] bool succeeded() const {
