@@ -29,6 +29,7 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
+#include "output_set.h"
 #include "outlier_options.h"
 #include "plotting.h"
 #include "robust_options.h"
@@ -92,7 +93,7 @@ std::string csvLine(const IterationStats& s) {
 
 /// Marginal covariances of the non-fixed vertices (of `tag`, when given) to `path`.
 int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
-                   const std::string& tag) {
+                   const std::string& tag, const std::string& shown) {
   const TypeRegistry& types = reg.types;
   std::vector<VertexId> ids;
   for (const auto& [id, v] : graph.vertices()) {
@@ -105,7 +106,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
   const MarginalSummary summary = marginals.compute(graph, ids);
   std::cout << summary.report() << "\n";
   if (!summary.ok()) {
-    std::cerr << "marginal covariances failed: " << summary.message << "\nnot writing " << path
+    std::cerr << "marginal covariances failed: " << summary.message << "\nnot writing " << shown
               << "\n";
     return summary.status == MarginalStatus::kUnconstrained ? kExitBadInput : kExitFailed;
   }
@@ -122,7 +123,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
       out << line << '\n';
     }
   });
-  std::cout << "wrote " << path << " (" << ids.size() << " vertices)\n";
+  std::cout << "wrote " << shown << " (" << ids.size() << " vertices)\n";
   return kExitOk;
 }
 
@@ -317,14 +318,46 @@ void writeStats(const std::string& path, const std::vector<std::string>& csv) {
   });
 }
 
-void plotOptimized(const OptimizeOptions& o, const Summary& summary, const Graph& graph,
+void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summary& summary,
+                   const Graph& graph,
                    const std::map<VertexId, Eigen::Vector2d>& initial_positions,
                    const homework::PointGroundTruth& truth) {
   std::ostringstream title;
   title << (o.input.empty() ? std::string("built-in default graph") : o.input) << ": chi2 "
         << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
         << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
-  plotPoints(o.plot, title.str(), graph, initial_positions, truth);
+  plotPoints(png, title.str(), graph, initial_positions, truth, o.plot);
+}
+
+/// Writes every requested output to its staged file, then puts them in place together;
+/// returns the exit code (on a failure nothing is put in place).
+int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& graph,
+                         const Registries& reg, const LoadedInput& in, const Summary& summary,
+                         const std::vector<std::string>& csv, const outliers::GncResult& gnc,
+                         const std::map<VertexId, Eigen::Vector2d>& initial_positions) {
+  if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
+    const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
+                                  o.marginals_file);
+    if (rc != kExitOk) {
+      outputs.abort();
+      std::cerr << "no output written\n";
+      return rc;
+    }
+  }
+  if (!o.stats_file.empty()) writeStats(outputs.staged(o.stats_file), csv);
+  if (!o.outliers.outliers_file.empty()) {
+    writeOutliersFile(outputs.staged(o.outliers.outliers_file), gnc, in.edge_lines,
+                      o.outliers.outliers_file);
+  }
+  if (!o.output.empty()) {
+    io::saveG2o(outputs.staged(o.output), graph, reg.types);
+    std::cout << "wrote " << o.output << "\n";
+  }
+  if (!o.plot.empty()) {
+    plotOptimized(o, outputs.staged(o.plot), summary, graph, initial_positions, in.ground_truth);
+  }
+  outputs.commit();
+  return kExitOk;
 }
 
 int cmdOptimize(const std::vector<std::string>& args) {
@@ -334,6 +367,13 @@ int cmdOptimize(const std::vector<std::string>& args) {
   loadRegistries(reg, o.plugins);
   checkRegistered(o, reg);
   checkRobustOptions(o.robust, reg.types);
+  // Every output is checked before the work starts and written all or nothing.
+  OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file},
+                    {o.input});
+  if (!o.plot.empty() && findPlotPython().empty()) {
+    throw UsageError("--plot needs Python 3 with matplotlib, and none was found (tried "
+                     "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
+  }
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
   if (o.outliers.reject) {
@@ -344,6 +384,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   outliers::GncResult gnc;
   if (o.outliers.reject &&
       !rejectOutliersForOptimize(graph, reg.solvers, o.options, o.outliers, o.quiet, gnc)) {
+    outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
   applyRobustOptions(o.robust, graph, reg.types);
@@ -359,24 +400,15 @@ int cmdOptimize(const std::vector<std::string>& args) {
     printErrors("poses", initial_errors.poses, final_errors.poses);
     printErrors("landmarks", initial_errors.landmarks, final_errors.landmarks);
   }
-  if (!o.stats_file.empty()) writeStats(o.stats_file, csv);
   if (!summary.succeeded() && summary.status != TerminationStatus::kNoProgress) {
     std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message
               << "\n";
     if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
+    outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
-  if (!o.outliers.outliers_file.empty()) {
-    writeOutliersFile(o.outliers.outliers_file, gnc, in.edge_lines);
-  }
-  if (!o.output.empty()) {
-    io::saveG2o(o.output, graph, reg.types);
-    std::cout << "wrote " << o.output << "\n";
-  }
-  if (!o.plot.empty()) plotOptimized(o, summary, graph, initial_positions, in.ground_truth);
-  if (!o.marginals_file.empty())
-    exitWithoutFreeing(writeMarginals(graph, reg, o.marginals_file, o.marginals_tag));
-  exitWithoutFreeing(kExitOk);
+  exitWithoutFreeing(
+      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
 }
 
 // ---------------------------------------------------------------------------------------

@@ -146,7 +146,7 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
 }
 
 void writeOutliersFile(const std::string& path, const outliers::GncResult& result,
-                       const std::vector<std::size_t>& edge_lines) {
+                       const std::vector<std::size_t>& edge_lines, const std::string& shown) {
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "# line vertex_ids... chi2 (rejected edges; line in the input file, chi2 at the end "
            "of the GNC)\n";
@@ -158,7 +158,8 @@ void writeOutliersFile(const std::string& path, const outliers::GncResult& resul
       out << chi2;
     }
   });
-  std::cout << "wrote " << path << " (" << result.rejected.size() << " rejected edges)\n";
+  std::cout << "wrote " << (shown.empty() ? path : shown) << " (" << result.rejected.size()
+            << " rejected edges)\n";
 }
 
 }  // namespace graphslam::apps

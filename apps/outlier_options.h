@@ -51,7 +51,8 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
 
 /// Writes the --outliers file: one line per rejected edge, `LINE ID... CHI2` (LINE: its
 /// line in the input file, 0 when unknown; CHI2: at the end of the GNC), atomically.
+/// `shown`: the name the "wrote" line gives (default `path`).
 void writeOutliersFile(const std::string& path, const outliers::GncResult& result,
-                       const std::vector<std::size_t>& edge_lines);
+                       const std::vector<std::size_t>& edge_lines, const std::string& shown = {});
 
 }  // namespace graphslam::apps

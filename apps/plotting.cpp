@@ -90,7 +90,7 @@ void printErrors(const char* what, const homework::PositionErrorStats& before,
 /// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const homework::PointGroundTruth& truth) {
+                const homework::PointGroundTruth& truth, const std::string& shown) {
   std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
   if (truth.empty()) {
     for (const auto& [id, v] : graph.vertices()) {
@@ -118,7 +118,7 @@ void plotPoints(const std::string& png, const std::string& title, const Graph& g
   });
   runPlotScript("plot_points.py", {data, png, title});
   std::remove(data.c_str());
-  std::printf("wrote %s\n", png.c_str());
+  std::printf("wrote %s\n", (shown.empty() ? png : shown).c_str());
 }
 
 }  // namespace graphslam::apps

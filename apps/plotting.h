@@ -30,8 +30,9 @@ void printErrors(const char* what, const homework::PositionErrorStats& before,
 
 /// Writes the initial / final / ground-truth positions as CSV and draws them
 /// (plot_points.py). Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
+/// `shown`: the name the "wrote" line gives (default `png`; a staged output's final name).
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const homework::PointGroundTruth& truth);
+                const homework::PointGroundTruth& truth, const std::string& shown = {});
 
 }  // namespace graphslam::apps

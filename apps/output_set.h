@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// All or nothing for a command's output files: checked before the work starts, written to
+// temporary files beside them, renamed into place together at the end.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace graphslam::apps {
+
+class OutputSet {
+ public:
+  /// Checks `paths` (empty entries skipped) before any work: each one's folder exists and
+  /// is writable, no path is an existing folder, none is one of `inputs`, none appears
+  /// twice. Throws UsageError naming the path and the reason.
+  OutputSet(std::vector<std::string> paths, const std::vector<std::string>& inputs);
+  /// Removes the temporary files of an unfinished set.
+  ~OutputSet();
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+
+  /// Where to write `path` now: a temporary file in its folder that keeps its name's end
+  /// (a plot's extension still selects its format). `path` must be one of the set's.
+  [[nodiscard]] std::string staged(const std::string& path) const;
+  /// Renames every staged file that was written into place. If a rename fails, the ones
+  /// done are left and the error names the rest.
+  void commit();
+  /// Removes every temporary file (for a failure path that ends the process without
+  /// running destructors).
+  void abort();
+
+ private:
+  std::vector<std::string> paths_;
+  std::vector<std::string> staged_;
+  bool done_ = false;
+};
+
+}  // namespace graphslam::apps
