@@ -159,6 +159,12 @@ Trajectory readTum(std::istream& in, const std::string& source_name) {
            "quaternion norm " + formatNumber(norm) + " is not 1 (tolerance " +
                formatNumber(kQuaternionNormTolerance) + ")");
     }
+    if (trajectory.size() > 0 && !(v[0] > trajectory.timestamps().back())) {
+      fail(source_name, line_no,
+           "timestamp " + formatNumber(v[0]) + " is not after the previous pose's (" +
+               formatNumber(trajectory.timestamps().back()) +
+               "): TUM poses must be in strictly increasing time");
+    }
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = q.normalized().toRotationMatrix();
     pose.translation() = Eigen::Vector3d(v[1], v[2], v[3]);

@@ -183,6 +183,13 @@ TEST(Core_Trajectory, BadInputThrowsWithFileAndLine) {
   EXPECT_EQ(tum("0 0 0 0 0 0 0 1.1\n").rfind("t.tum:1: quaternion norm", 0), 0U);
   EXPECT_EQ(tum("0 0 0 0 0 0 0 0\n").rfind("t.tum:1: quaternion norm", 0), 0U);
   EXPECT_EQ(tum("0 1.5e 0 0 0 0 0 1\n").rfind("t.tum:1: token 2 '1.5e' is not a number", 0), 0U);
+  // Time goes forward: a repeated or earlier timestamp names its line and both times.
+  EXPECT_EQ(tum("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n")
+                .rfind("t.tum:3: timestamp 2 is not after the previous pose's (2)", 0),
+            0U);
+  EXPECT_EQ(tum("5 0 0 0 0 0 0 1\n# c\n4.5 0 0 0 0 0 0 1\n")
+                .rfind("t.tum:3: timestamp 4.5 is not after the previous pose's (5)", 0),
+            0U);
 
   const auto kitti = [](const std::string& text) {
     return inputErrorMessage([&] {

@@ -73,8 +73,10 @@ class Trajectory {
   std::vector<Eigen::Isometry3d> poses_;
 };
 
-/// Reads a TUM file: one pose per line `t x y z qx qy qz qw`, whitespace separated;
-/// blank lines and text after '#' are ignored. Throws graphslam::InputError.
+/// Reads a TUM file: one pose per line `t x y z qx qy qz qw`, whitespace separated, in
+/// strictly increasing time; blank lines and text after '#' are ignored. Throws
+/// graphslam::InputError (FILE:LINE) for a malformed line, a quaternion that is not unit
+/// length, or a timestamp not after the previous one.
 [[nodiscard]] Trajectory readTum(const std::string& path);
 /// Same as readTum(path) on a stream; `source_name` is used as FILE in error messages.
 [[nodiscard]] Trajectory readTum(std::istream& in, const std::string& source_name);
