@@ -555,7 +555,9 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::printf("information matrix H: %d x %d\n", n, n);
 
   if (!plot.empty()) {
+      if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");
     const std::string data = plot + ".blocks.csv";
+    const TemporaryFile remove_data{data};
     writeFileAtomically(data, [&](std::ostream& out) {
       out << "n," << n << "\nrow,col,rows,cols\n";
       auto block = [&](VertexId a, VertexId b) {
@@ -573,7 +575,6 @@ int cmdInfo(const std::vector<std::string>& args) {
       }
     });
     runPlotScript("plot_sparsity.py", {data, plot, "Information matrix H of " + input});
-    std::remove(data.c_str());
     std::printf("wrote %s\n", plot.c_str());
   }
   return kExitOk;

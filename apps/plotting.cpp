@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "plotting.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <fstream>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,8 +21,9 @@ namespace graphslam::apps {
 
 namespace {
 
-/// Runs argv without a shell; returns the exit status (-1 if it could not start).
-int run(const std::vector<std::string>& argv, bool quiet) {
+/// Runs argv without a shell; returns the exit status (-1 if it could not start). `quiet`:
+/// no output; `stderr_fd` >= 0: the child's error output goes there.
+int run(const std::vector<std::string>& argv, bool quiet, int stderr_fd = -1) {
   std::fflush(nullptr);  // the child must not inherit (and re-emit) buffered output
   const pid_t pid = ::fork();
   if (pid < 0) return -1;
@@ -26,6 +32,7 @@ int run(const std::vector<std::string>& argv, bool quiet) {
       std::freopen("/dev/null", "w", stdout);
       std::freopen("/dev/null", "w", stderr);
     }
+    if (stderr_fd >= 0) ::dup2(stderr_fd, 2);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));  // execvp's API
     args.push_back(nullptr);
@@ -64,8 +71,24 @@ void runPlotScript(const std::string& script, const std::vector<std::string>& ar
   }
   std::vector<std::string> argv{python, plotDir() + "/" + script};
   argv.insert(argv.end(), args.begin(), args.end());
-  const int rc = run(argv, false);
-  if (rc != 0) throw Error("plot script " + script + " failed (exit " + std::to_string(rc) + ")");
+  // The script's error output is kept aside: a failure is reported by its last line (the
+  // exception), never as a Python traceback.
+  char name[] = "/tmp/graphslam-plot-XXXXXX";
+  const int fd = ::mkstemp(name);
+  const int rc = run(argv, false, fd);
+  std::string last;
+  if (fd >= 0) {
+    ::close(fd);
+    std::ifstream err(name);
+    for (std::string line; std::getline(err, line);) {
+      if (line.find_first_not_of(" \t") != std::string::npos) last = line;
+    }
+    std::remove(name);
+  }
+  if (rc != 0) {
+    throw Error("plot script " + script + " failed (exit " + std::to_string(rc) + ")" +
+                (last.empty() ? std::string() : ": " + last));
+  }
 }
 
 /// Positions of the vertices that have one (see homework::vertexPosition), by id.
@@ -116,8 +139,8 @@ void plotPoints(const std::string& png, const std::string& title, const Graph& g
     }
     write("truth", gt);
   });
+  const TemporaryFile remove_data{data};
   runPlotScript("plot_points.py", {data, png, title});
-  std::remove(data.c_str());
   std::printf("wrote %s\n", (shown.empty() ? png : shown).c_str());
 }
 

@@ -5,7 +5,9 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graphslam/core/graph.h"
@@ -20,6 +22,15 @@ namespace graphslam::apps {
 /// Runs tools/plot/<script> with `args`. Throws graphslam::Error with install advice when
 /// no interpreter has matplotlib, or naming the script when it fails.
 void runPlotScript(const std::string& script, const std::vector<std::string>& args);
+
+/// Removes a file when it goes out of scope (a plot's data file, whatever the plot did).
+struct TemporaryFile {
+  explicit TemporaryFile(std::string p) : path(std::move(p)) {}
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+  ~TemporaryFile() { std::remove(path.c_str()); }
+  std::string path;
+};
 
 /// Positions of the vertices that have one (see homework::vertexPosition), by id.
 [[nodiscard]] std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph);

@@ -32,7 +32,7 @@ def main():
     ax.set_ylim(n, 0)
     ax.set_aspect("equal")
     nnz = sum(h * w for _, _, h, w in blocks)
-    ax.set_title(f"{title}\n{n} x {n}, {nnz} non-zeros ({100.0 * nnz / (n * n):.3g} %)", fontsize=9)
+    ax.set_title(f"{title}\n{n} x {n}, {nnz} non-zeros ({100.0 * nnz / max(n * n, 1):.3g} %)", fontsize=9)
     if n <= 60:
         ax.set_xticks(range(0, n + 1, 3))
         ax.set_yticks(range(0, n + 1, 3))
