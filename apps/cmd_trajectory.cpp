@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Subcommands on trajectories and graphs: eval, deadreckon, convert, info.
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
@@ -16,6 +21,7 @@
 #include "graphslam/eval/trajectory_metrics.h"
 #include "graphslam/homework/pose_graph_io.h"
 #include "input.h"
+#include "output_set.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -180,7 +186,7 @@ void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
       "ref-format", po::value(&o.ref_format)->default_value("auto"), "auto, tum, kitti or g2o")(
       "est-format", po::value(&o.est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
       "save-results", po::value(&o.save), "write the result as .json or .csv")(
-      "plot", po::value(&o.plot_dir), "write PNG plots into this directory");
+      "plot", po::value(&o.plot_dir), "write PNG plots into this directory (it must exist)");
 }
 
 /// Parses and checks the options; false after --help.
@@ -317,10 +323,19 @@ void saveResults(const std::string& save, const std::string& metric, const std::
 
 void plotEval(const std::string& plot_dir, const std::string& metric, const std::string& title,
               const EvalResult& e) {
-  writePositionsCsv(plot_dir + "/" + metric + "_reference.csv", e.ref_used);
-  writePositionsCsv(plot_dir + "/" + metric + "_estimate.csv", e.est_used);
-  writeErrorsCsv(plot_dir + "/" + metric + "_errors.csv", e);
-  runPlotScript("plot_eval.py", {plot_dir, metric, title});
+  const std::string stem = plot_dir + "/" + metric;
+  try {
+    writePositionsCsv(stem + "_reference.csv", e.ref_used);
+    writePositionsCsv(stem + "_estimate.csv", e.est_used);
+    writeErrorsCsv(stem + "_errors.csv", e);
+    runPlotScript("plot_eval.py", {plot_dir, metric, title});
+  } catch (...) {  // all or nothing: none of the plot's files stays
+    for (const char* end : {"_reference.csv", "_estimate.csv", "_errors.csv", "_trajectories.png",
+                            "_error.png", "_error_map.png"}) {
+      std::remove((stem + end).c_str());
+    }
+    throw;
+  }
   std::printf("plots: %s/%s_trajectories.png, %s_error.png, %s_error_map.png\n", plot_dir.c_str(),
               metric.c_str(), metric.c_str(), metric.c_str());
 }
@@ -333,6 +348,24 @@ void plotEval(const std::string& plot_dir, const std::string& metric, const std:
 int cmdEval(const std::vector<std::string>& args) {
   EvalOptions o;
   if (!parseEvalOptions(args, o)) return kExitOk;
+  // Outputs are checked before the work and written all or nothing.
+  if (!o.save.empty() && !endsWith(o.save, ".json") && !endsWith(o.save, ".csv")) {
+    throw UsageError("--save-results must end in .json or .csv");
+  }
+  OutputSet outputs({o.save}, {o.ref_path, o.est_path});
+  if (!o.plot_dir.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(o.plot_dir, ec)) {
+      throw UsageError("--plot: the folder " + o.plot_dir + " does not exist");
+    }
+    if (::access(o.plot_dir.c_str(), W_OK) != 0) {
+      throw UsageError("--plot: cannot write in " + o.plot_dir + ": " + std::strerror(errno));
+    }
+    if (findPlotPython().empty()) {
+      throw UsageError("--plot needs Python 3 with matplotlib, and none was found (tried "
+                       "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
+    }
+  }
   Registries reg;
   loadRegistries(reg, {});
   const Trajectory ref = loadTrajectory(o.ref_path, o.ref_format, reg);
@@ -349,8 +382,10 @@ int cmdEval(const std::vector<std::string>& args) {
   if (o.metric == "rpe") title += ", delta " + formatDouble(o.delta) + " " + o.unit;
   std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
               statsTable(e.stats).c_str(), e.ref_used.size(), e.errors.size(), e.seconds);
-  if (!o.save.empty()) saveResults(o.save, o.metric, title, mode, e);
+  if (!o.save.empty()) saveResults(outputs.staged(o.save), o.metric, title, mode, e);
   if (!o.plot_dir.empty()) plotEval(o.plot_dir, o.metric, title + " " + mode, e);
+  outputs.commit();
+  if (!o.save.empty()) std::printf("wrote %s\n", o.save.c_str());
   return kExitOk;
 }
 
