@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The graphslam command-line tool: subcommands over the library. No library logic here.
+#include <unistd.h>
+
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
@@ -469,6 +471,23 @@ int cmdListSolvers(const std::vector<std::string>& args) {
 // ---------------------------------------------------------------------------------------
 // simulate
 
+/// Refuses sizes whose graph would not fit in three quarters of this machine's memory (the
+/// simulator would otherwise run on for minutes and then be killed).
+void checkSimulationSize(const simulation::ManhattanOptions& sim) {
+  const simulation::ManhattanSize size = simulation::estimateSize(sim);
+  const double memory =
+      static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
+  if (memory > 0 && size.bytes > 0.75 * memory) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "%d poses and %d landmarks would make about %.3g landmark observations and "
+                  "take about %.1f GB, more than this machine's memory allows (%.1f GB)",
+                  sim.num_poses, sim.num_landmarks, size.observations, size.bytes / 1e9,
+                  memory / 1e9);
+    throw UsageError(text);
+  }
+}
+
 int cmdSimulate(const std::vector<std::string>& args) {
   std::string output, truth;
   simulation::ManhattanOptions sim;
@@ -494,6 +513,7 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
   if (sim.num_landmarks < 0) throw UsageError("--landmarks must be at least 0");
   if (sim.world_size < 0) throw UsageError("--world-size must be at least 0 (0: automatic)");
+  checkSimulationSize(sim);
   if (!truth.empty() && truth == output) {
     throw UsageError("--truth and -o name the same file, " + output);
   }

@@ -77,3 +77,17 @@ TEST(Simulation_WrongLoopClosures, NoPoseGraphIsAnError) {
 }
 
 }  // namespace
+
+TEST(Simulation_Size, EstimateIsCloseToWhatTheSimulatorMakes) {
+  simulation::ManhattanOptions o;
+  o.num_poses = 2000;
+  o.num_landmarks = 3000;
+  const simulation::ManhattanSize size = simulation::estimateSize(o);
+  const auto sim = simulation::simulateManhattan(o);
+  const double made = static_cast<double>(sim.num_observations);
+  EXPECT_GT(size.observations, 0.7 * made);
+  EXPECT_LT(size.observations, 1.3 * made);
+  EXPECT_NEAR(size.bytes, 1200.0 * 2000 + 260.0 * size.observations, 1.0);
+  o.num_landmarks = 0;
+  EXPECT_EQ(simulation::estimateSize(o).observations, 0.0);
+}

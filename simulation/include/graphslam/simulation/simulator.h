@@ -45,4 +45,14 @@ struct SimulatedGraph {
 /// Deterministic for a given seed (std::mt19937).
 [[nodiscard]] SimulatedGraph simulateManhattan(const ManhattanOptions& options);
 
+/// Roughly what simulateManhattan(options) makes, before making it: the expected number of
+/// landmark observations (each pose sees the landmarks within landmark_range, spread over
+/// the world) and the memory the graph takes (measured: about 1.2 kB per pose and 0.26 kB
+/// per observation; 200k poses 227 MB, 1000 poses with 200k landmarks 2.5 GB).
+struct ManhattanSize {
+  double observations = 0.0;
+  double bytes = 0.0;
+};
+[[nodiscard]] ManhattanSize estimateSize(const ManhattanOptions& options);
+
 }  // namespace graphslam::simulation
