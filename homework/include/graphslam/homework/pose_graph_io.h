@@ -28,9 +28,10 @@ struct RelativePoseGraphOptions {
 [[nodiscard]] Graph poseGraphFromRelativePoses(const Eigen::Matrix3Xd& relative,
                                                const RelativePoseGraphOptions& options = {});
 
-/// Odometry chain of an SE(2) graph: composes the EDGE_SE2 measurements i -> i+1 from the
-/// estimate of the lowest pose id (identity if it has none set) into a trajectory.
-/// Throws graphslam::Error when a consecutive edge is missing.
+/// Odometry chain of an SE(2) graph: its poses (VERTEX_SE2) in id order, other vertices
+/// such as landmarks skipped, each composed from the one before by an EDGE_SE2 joining the
+/// two (in either direction), from the estimate of the lowest pose id. Throws
+/// graphslam::Error naming the two poses when no edge joins a consecutive pair.
 [[nodiscard]] eval::Trajectory deadReckonGraph(const Graph& graph);
 
 }  // namespace graphslam::homework
