@@ -93,17 +93,16 @@ struct GncOptions {
   /// iteration per step follows it (m3500, intel, ring, ringcity and city10000 with 10 %
   /// and 20 % wrong closures: the same rejection as three, in a third of the time).
   int verify_iterations_per_step = 1;
-  /// That GNC starts at the mu that gives weight 0 to the candidates whose chi2 at the
-  /// initialisation's optimum exceeds this many times their threshold (mu_0 by Remark 5
-  /// over the others): their wrong closures then stay out of H from the first step
-  /// (random wrong closures fill it in), while a misplaced group of right closures
-  /// (ringcity's: 104-130 times) is tried again. When no candidate lies between its
-  /// threshold and this bound, the GNC would only repeat the initialisation's answer and
-  /// is skipped.
+  /// That GNC's mu_0 comes (Remark 5) from the candidates whose chi2 at the
+  /// initialisation's optimum is below this many times their threshold only; those far
+  /// beyond it (above about twice the bound) then start at weight 0 and stay out of H
+  /// from the first step (random wrong closures fill it in), while a misplaced group of
+  /// right closures (ringcity's: 104-130 times) is tried again. When no candidate lies
+  /// between its threshold and this bound, the GNC would only repeat the
+  /// initialisation's answer and is skipped.
   double verify_max_ratio = 1000.0;
-  /// robustInitialization's mu_0 likewise: candidates whose chi2 at the least-squares
-  /// placement of every edge exceeds this many times their threshold start at weight 0
-  /// (infinity: Remark 5 over every candidate, as runGnc).
+  /// robustInitialization's mu_0 likewise, from the chi2 at the least-squares placement of
+  /// every edge (infinity: Remark 5 over every candidate, as runGnc).
   double initial_max_ratio = 1000.0;
   /// The nonlinear GNC's answer replaces the initialisation's only when its TLS cost is
   /// lower by more than this many candidate thresholds (the largest c^2): two answers
