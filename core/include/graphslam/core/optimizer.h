@@ -214,8 +214,10 @@ class Optimizer {
     /// LM: retries (factorisations with larger damping) before giving up; dogleg: radii
     /// tried per iteration, and regularisations of an H that does not factorise.
     int max_rejections = 10;
-    /// If no vertex is fixed and there is no unary edge, fix the lowest id (restored
-    /// after optimize()).
+    /// If no vertex is fixed and there is no unary edge, fix the lowest id; and fix the
+    /// lowest id of every further component that nothing anchors (all restored after
+    /// optimize()). Off: such components are only reported (Summary::unanchored) and
+    /// their system is singular.
     bool fix_gauge = true;
     /// Threads for evaluating errors and Jacobians (the caller's included). The result
     /// is bit-identical for every count; the linear solver's own threads are separate
