@@ -101,5 +101,6 @@ int cmdInfo(const std::vector<std::string>& args);
 int cmdDrivebot(const std::vector<std::string>& args);
 int cmdSolvers(const std::vector<std::string>& args);
 int cmdAddOutliers(const std::vector<std::string>& args);
+int cmdSimulate(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

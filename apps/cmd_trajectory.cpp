@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Subcommands on trajectories and graphs: eval, deadreckon, convert, info.
+// Subcommands on trajectories: eval, deadreckon, convert.
 #include <unistd.h>
 
 #include <cerrno>
@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <numeric>
 #include <sstream>
 
 #include "cli_common.h"
@@ -362,8 +361,9 @@ int cmdEval(const std::vector<std::string>& args) {
       throw UsageError("--plot: cannot write in " + o.plot_dir + ": " + std::strerror(errno));
     }
     if (findPlotPython().empty()) {
-      throw UsageError("--plot needs Python 3 with matplotlib, and none was found (tried "
-                       "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
+      throw UsageError(
+          "--plot needs Python 3 with matplotlib, and none was found (tried "
+          "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
     }
   }
   Registries reg;
@@ -502,116 +502,6 @@ int cmdConvert(const std::vector<std::string>& args) {
   std::printf(
       "wrote %s: %zu poses, %zu edges%s\n", output.c_str(), graph.numVertices(), graph.numEdges(),
       options.last_column_closes_loop ? " (last column as the loop closure to pose 0)" : "");
-  return kExitOk;
-}
-
-// ---------------------------------------------------------------------------------------
-// info
-
-int cmdInfo(const std::vector<std::string>& args) {
-  std::string input, plot;
-  std::vector<std::string> plugins;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("input", po::value(&input),
-                                                 "input .g2o file or CMU 16-833 homework .npz")(
-      "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
-      "plugin", po::value(&plugins)->composing(),
-      "load types from this shared library (repeatable)");
-  po::positional_options_description pos;
-  pos.add("input", 1);
-  const auto vm = parse(args, desc, &pos);
-  if (vm.count("help")) {
-    printHelp(
-        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png]\n"
-        "Counts per type, connected components, fixed vertices, and the sparsity of H.",
-        desc);
-    return kExitOk;
-  }
-  if (input.empty()) throw UsageError("info needs an input file");
-  Registries reg;
-  loadRegistries(reg, plugins);
-  const LoadedInput in = loadInput(input, reg.types);
-  const Graph& graph = in.graph;
-  if (in.format != "g2o") {
-    std::printf("%s: %s\n", input.c_str(), in.description.c_str());
-    for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
-  }
-  std::map<std::string, std::size_t> counts;
-  for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
-  for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
-  std::printf("%s: %zu vertices, %zu edges\n", input.c_str(), graph.numVertices(),
-              graph.numEdges());
-  for (const auto& [tag, n] : counts) std::printf("  %-20s %zu\n", tag.c_str(), n);
-
-  // Columns of H in id order, over all vertices (fixed ones included, as the picture of H).
-  std::map<VertexId, std::pair<int, int>> column;  // id -> (first column, dimension)
-  std::map<VertexId, std::size_t> index;
-  int n = 0;
-  for (const auto& [id, v] : graph.vertices()) {
-    column[id] = {n, v->dimension()};
-    index[id] = index.size();
-    n += v->dimension();
-  }
-  std::vector<std::size_t> parent(graph.numVertices());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](std::size_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const auto& e : graph.edges()) {
-    for (std::size_t s = 1; s < e->numVertices(); ++s) {
-      parent[find(index[e->vertexId(s)])] = find(index[e->vertexId(0)]);
-    }
-  }
-  std::map<std::size_t, std::vector<VertexId>> components;
-  for (const auto& [id, i] : index) components[find(i)].push_back(id);
-  std::printf("connected components: %zu\n", components.size());
-  std::size_t shown = 0;
-  for (const auto& [root, ids] : components) {
-    if (++shown > 10) {
-      std::printf("  ...\n");
-      break;
-    }
-    std::printf("  %zu vertices, ids %d..%d\n", ids.size(), ids.front(), ids.back());
-  }
-  std::string fixed;
-  std::size_t num_fixed = 0;
-  for (const auto& [id, v] : graph.vertices()) {
-    if (!v->fixed()) continue;
-    if (++num_fixed <= 20) fixed += " " + std::to_string(id);
-  }
-  std::size_t priors = 0;
-  for (const auto& e : graph.edges()) priors += e->numVertices() == 1 ? 1 : 0;
-  std::printf("fixed vertices: %zu%s%s\n", num_fixed,
-              num_fixed ? ":"
-              : priors  ? " (unary edges anchor the graph)"
-                        : " (the optimizer fixes the lowest id)",
-              fixed.c_str());
-  std::printf("information matrix H: %d x %d\n", n, n);
-
-  if (!plot.empty()) {
-      if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");
-    const std::string data = plot + ".blocks.csv";
-    const TemporaryFile remove_data{data};
-    writeFileAtomically(data, [&](std::ostream& out) {
-      out << "n," << n << "\nrow,col,rows,cols\n";
-      auto block = [&](VertexId a, VertexId b) {
-        const auto [ra, da] = column[a];
-        const auto [rb, db] = column[b];
-        out << ra << ',' << rb << ',' << da << ',' << db << '\n';
-      };
-      for (const auto& [id, v] : graph.vertices()) block(id, id);
-      for (const auto& e : graph.edges()) {
-        for (std::size_t s = 0; s < e->numVertices(); ++s) {
-          for (std::size_t t = 0; t < e->numVertices(); ++t) {
-            if (s != t) block(e->vertexId(s), e->vertexId(t));
-          }
-        }
-      }
-    });
-    runPlotScript("plot_sparsity.py", {data, plot, "Information matrix H of " + input});
-    std::printf("wrote %s\n", plot.c_str());
-  }
   return kExitOk;
 }
 

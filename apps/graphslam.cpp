@@ -1,7 +1,5 @@
 // SPDX-License-Identifier: MIT
 // The graphslam command-line tool: subcommands over the library. No library logic here.
-#include <unistd.h>
-
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
@@ -31,8 +29,8 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
-#include "output_set.h"
 #include "outlier_options.h"
+#include "output_set.h"
 #include "plotting.h"
 #include "robust_options.h"
 
@@ -49,12 +47,14 @@ namespace {
 // optimize
 
 constexpr const char* kOptimizeUsage =
-    "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm auto|gn|lm|dogleg]\n"
+    "usage: graphslam optimize [IN.g2o|IN.npz] [-o OUT.g2o] [-i N] [--algorithm "
+    "auto|gn|lm|dogleg]\n"
     "                          [--solver NAME[:ORDERING]] [--init auto|global|none] [--plugin "
     "LIB]...\n"
     "                          [--stats FILE.csv] [--plot FILE.png] [--quiet] [--threads N]\n"
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
-    "                          [--robust-kernel NAME[:WIDTH] [--robust-edges all|loop-closures|TAG]]\n"
+    "                          [--robust-kernel NAME[:WIDTH] [--robust-edges "
+    "all|loop-closures|TAG]]\n"
     "                          [--reject-outliers [--outliers FILE]]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
@@ -321,8 +321,7 @@ void writeStats(const std::string& path, const std::vector<std::string>& csv) {
 }
 
 void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summary& summary,
-                   const Graph& graph,
-                   const std::map<VertexId, Eigen::Vector2d>& initial_positions,
+                   const Graph& graph, const std::map<VertexId, Eigen::Vector2d>& initial_positions,
                    const homework::PointGroundTruth& truth) {
   std::ostringstream title;
   title << (o.input.empty() ? std::string("built-in default graph") : o.input) << ": chi2 "
@@ -373,8 +372,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
   OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file},
                     {o.input});
   if (!o.plot.empty() && findPlotPython().empty()) {
-    throw UsageError("--plot needs Python 3 with matplotlib, and none was found (tried "
-                     "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
+    throw UsageError(
+        "--plot needs Python 3 with matplotlib, and none was found (tried "
+        "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
   }
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
@@ -465,77 +465,6 @@ int cmdListSolvers(const std::vector<std::string>& args) {
   }
   std::printf("block-llt kernels: %s (GRAPHSLAM_SIMD=portable selects the portable ones)\n",
               solvers::blockKernelPath());
-  return kExitOk;
-}
-
-// ---------------------------------------------------------------------------------------
-// simulate
-
-/// Refuses sizes whose graph would not fit in three quarters of this machine's memory (the
-/// simulator would otherwise run on for minutes and then be killed).
-void checkSimulationSize(const simulation::ManhattanOptions& sim) {
-  const simulation::ManhattanSize size = simulation::estimateSize(sim);
-  const double memory =
-      static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
-  if (memory > 0 && size.bytes > 0.75 * memory) {
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "%d poses and %d landmarks would make about %.3g landmark observations and "
-                  "take about %.1f GB, more than this machine's memory allows (%.1f GB)",
-                  sim.num_poses, sim.num_landmarks, size.observations, size.bytes / 1e9,
-                  memory / 1e9);
-    throw UsageError(text);
-  }
-}
-
-int cmdSimulate(const std::vector<std::string>& args) {
-  std::string output, truth;
-  simulation::ManhattanOptions sim;
-  po::options_description desc("options");
-  desc.add_options()("help,h", "show this help")("output,o", po::value(&output),
-                                                 "write the graph (odometry initial guess) here")(
-      "truth", po::value(&truth), "write the ground truth graph (same edges, true vertices) here")(
-      "poses", po::value(&sim.num_poses)->default_value(sim.num_poses), "number of poses")(
-      "landmarks", po::value(&sim.num_landmarks)->default_value(0), "number of landmarks")(
-      "seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")(
-      "world-size", po::value(&sim.world_size)->default_value(0),
-      "side of the square world in grid cells (0: automatic)");
-  const auto vm = parse(args, desc);
-  if (vm.count("help")) {
-    printHelp(
-        "usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed "
-        "S]\n"
-        "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks.",
-        desc);
-    return kExitOk;
-  }
-  if (output.empty()) throw UsageError("simulate needs -o OUT.g2o");
-  if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
-  if (sim.num_landmarks < 0) throw UsageError("--landmarks must be at least 0");
-  if (sim.world_size < 0) throw UsageError("--world-size must be at least 0 (0: automatic)");
-  checkSimulationSize(sim);
-  if (!truth.empty() && truth == output) {
-    throw UsageError("--truth and -o name the same file, " + output);
-  }
-  Registries reg;
-  loadRegistries(reg, {});
-  auto result = simulation::simulateManhattan(sim);
-  io::saveG2o(output, result.graph, reg.types);
-  std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
-            << result.graph.numEdges() << " edges (" << result.num_loop_closures
-            << " loop closures, " << result.num_observations << " landmark observations)\n";
-  if (!truth.empty()) {
-    for (int i = 0; i < sim.num_poses; ++i) {
-      static_cast<types_slam2d::VertexSE2*>(result.graph.vertex(i))
-          ->setEstimate(result.true_poses[i]);
-    }
-    for (std::size_t k = 0; k < result.true_landmarks.size(); ++k) {
-      static_cast<types_slam2d::VertexXY*>(result.graph.vertex(sim.num_poses + static_cast<int>(k)))
-          ->setEstimate(result.true_landmarks[k]);
-    }
-    io::saveG2o(truth, result.graph, reg.types);
-    std::cout << "wrote " << truth << " (ground truth)\n";
-  }
   return kExitOk;
 }
 

@@ -23,8 +23,7 @@ void declareOutlierOptions(po::options_description& desc, OutlierCliOptions& o) 
       "outliers", po::value(&o.outliers_file),
       "with --reject-outliers: write one line per rejected edge here (its line in IN, its "
       "vertex ids, its chi2 at the end of the GNC)")(
-      "inlier-probability",
-      po::value(&g.inlier_probability)->default_value(g.inlier_probability),
+      "inlier-probability", po::value(&g.inlier_probability)->default_value(g.inlier_probability),
       "GNC: an edge's threshold is the chi-square quantile of its dimension at this probability")(
       "gnc-mu-step", po::value(&g.mu_step)->default_value(g.mu_step),
       "GNC: factor the control parameter mu grows by per step")(
@@ -98,10 +97,11 @@ void printGlobalStart(const outliers::GlobalStartReport& s) {
       s.init.steps, s.init.zero_weight, s.init.candidates, s.init.seconds,
       s.init.converged ? "" : "; weights not all decided: the nonlinear GNC goes on from there");
   if (s.cost_by_gnc >= 0.0) {
-    std::printf("truncated-least-squares cost: %.10g by the initialisation's rejection, %.10g by "
-                "the nonlinear GNC's: the %s stands\n",
-                s.cost_by_initialization, s.cost_by_gnc,
-                s.chose_gnc ? "nonlinear GNC's" : "initialisation's");
+    std::printf(
+        "truncated-least-squares cost: %.10g by the initialisation's rejection, %.10g by "
+        "the nonlinear GNC's: the %s stands\n",
+        s.cost_by_initialization, s.cost_by_gnc,
+        s.chose_gnc ? "nonlinear GNC's" : "initialisation's");
   }
   std::fflush(stdout);
 }

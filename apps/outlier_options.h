@@ -30,8 +30,7 @@ struct OutlierCliOptions {
 };
 
 /// Adds --reject-outliers, --outliers and the GNC's tuning options to `desc`.
-void declareOutlierOptions(boost::program_options::options_description& desc,
-                           OutlierCliOptions& o);
+void declareOutlierOptions(boost::program_options::options_description& desc, OutlierCliOptions& o);
 
 /// Checks the values after parsing (UsageError on a bad one).
 void checkOutlierOptions(const boost::program_options::variables_map& vm, OutlierCliOptions& o);

@@ -44,8 +44,8 @@ OutputSet::OutputSet(std::vector<std::string> paths, const std::vector<std::stri
     seen.push_back(c);
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw UsageError(path + ": is a folder, not a file name");
-    const fs::path dir = fs::path(path).parent_path().empty() ? fs::path(".")
-                                                              : fs::path(path).parent_path();
+    const fs::path dir =
+        fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
     if (!fs::is_directory(dir, ec)) {
       throw UsageError(path + ": the folder " + dir.string() + " does not exist");
     }

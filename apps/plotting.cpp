@@ -2,15 +2,12 @@
 #include "plotting.h"
 
 #include <fcntl.h>
-#include <unistd.h>
-
-#include <fstream>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <set>
 
 #include "graphslam/core/error.h"

@@ -4,8 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <map>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>

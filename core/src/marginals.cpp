@@ -63,7 +63,6 @@ std::string idList(const std::vector<VertexId>& ids) {
   return s;
 }
 
-
 }  // namespace
 
 struct MarginalCovariance::Impl {

@@ -31,7 +31,7 @@ class Candidates {
     Chi2Thresholds threshold(o.inlier_probability);
     for (std::size_t k = 0; k < edges.size(); ++k) {
       Edge& e = *edges[k];
-      const bool known = o.is_known_inlier ? o.is_known_inlier(e) : isOdometryOrUnary(e);
+      const bool known = isKnownInlier(o, e);
       if (known) continue;
       index_.push_back(k);
       edge_.push_back(&e);
@@ -229,9 +229,8 @@ GncResult runGnc(Graph& graph, const SolverRegistry& solvers, const GncOptions& 
   }
   (void)graph.chi2();
   cand.readErrors();
-  r.initial_mu = options.initial_mu > 0.0
-                     ? options.initial_mu
-                     : initialMu(cand.s(), cand.c2(), options.min_initial_mu);
+  r.initial_mu = options.initial_mu > 0.0 ? options.initial_mu
+                                          : initialMu(cand.s(), cand.c2(), options.min_initial_mu);
   double mu = r.initial_mu;
   if (mu < 0.0) {  // every candidate is within its threshold: all inliers
     r.converged = true;

@@ -21,7 +21,7 @@ struct InitCandidates {
   InitCandidates(const Graph& graph, const GncOptions& o) {
     Chi2Thresholds threshold(o.inlier_probability);
     for (const auto& e : graph.edges()) {
-      const bool known = o.is_known_inlier ? o.is_known_inlier(*e) : isOdometryOrUnary(*e);
+      const bool known = isKnownInlier(o, *e);
       if (known) continue;
       index.emplace(e.get(), edge.size());
       edge.push_back(e.get());
@@ -186,8 +186,7 @@ double verifyInitialMu(const Graph& graph, const GncOptions& options) {
   std::vector<double> s, c2;
   Chi2Thresholds threshold(options.inlier_probability);
   for (const auto& e : graph.edges()) {
-    const bool known =
-        options.is_known_inlier ? options.is_known_inlier(*e) : isOdometryOrUnary(*e);
+    const bool known = isKnownInlier(options, *e);
     if (known) continue;
     const double t = threshold(e->dimension());
     if (e->chi2() < options.verify_max_ratio * t) {
@@ -205,8 +204,7 @@ double tlsCost(Graph& graph, const GncOptions& options) {
   Chi2Thresholds threshold(options.inlier_probability);
   double cost = 0.0;
   for (const auto& e : graph.edges()) {
-    const bool known =
-        options.is_known_inlier ? options.is_known_inlier(*e) : isOdometryOrUnary(*e);
+    const bool known = isKnownInlier(options, *e);
     cost += known ? e->chi2() : std::min(e->chi2(), threshold(e->dimension()));
   }
   return cost;
@@ -239,8 +237,8 @@ GncResult rejectFromGlobalStart(Graph& graph, const SolverRegistry& solvers,
   double largest_c2 = 0.0;
   Chi2Thresholds threshold(options.inlier_probability);
   for (const auto& e : graph.edges()) largest_c2 = std::max(largest_c2, threshold(e->dimension()));
-  rep.chose_gnc = by_gnc.ok && rep.cost_by_gnc < rep.cost_by_initialization -
-                                                     options.verify_margin * largest_c2;
+  rep.chose_gnc = by_gnc.ok &&
+                  rep.cost_by_gnc < rep.cost_by_initialization - options.verify_margin * largest_c2;
   if (rep.chose_gnc) {
     by_gnc.seconds += by_init.seconds;
     return by_gnc;

@@ -51,8 +51,8 @@ bool ChordSteps::tryStep(StepContext& ctx, double& cost) {
 // The solver holds a usable factorisation after a step from a fresh one, or after a chord
 // step whose iterations reached their tolerance (one that did not is followed by a
 // factorisation); never after a step that raised the objective.
-void ChordSteps::record(const StepContext& ctx, bool factorized, bool chord_taken,
-                        double old_cost, double new_cost, double model_decrease) {
+void ChordSteps::record(const StepContext& ctx, bool factorized, bool chord_taken, double old_cost,
+                        double new_cost, double model_decrease) {
   ready_ = !ctx.im.jacobian_form && (factorized || (chord_taken && converged_)) &&
            ctx.options.function_tolerance > 0 && new_cost <= old_cost;
   const double decrease = old_cost - new_cost;

@@ -66,7 +66,8 @@ class BaseMultiEdge : public Edge {
     const double weight = robustWeight();
     for (int a = 0; a < n; ++a) {
       if (t.b_offsets[a] < 0) continue;
-      const Eigen::MatrixXd JtW = weight * (jacobians_[a].transpose() * information_);
+      Eigen::MatrixXd JtW = jacobians_[a].transpose() * information_;
+      if (weight != 1.0) JtW *= weight;
       Eigen::Map<Eigen::VectorXd>(t.gradient + t.b_offsets[a], JtW.rows()) += JtW * error_;
       for (int b = a; b < n; ++b) {
         const HessianBlockRef& ref = t.blocks[upperPairIndex(a, b, n)];

@@ -102,7 +102,7 @@ struct Summary {
   TimeSplit time;
   double total_time = 0.0;       ///< wall time of optimize(), including set-up
   std::size_t num_vertices = 0;  ///< optimised (non-fixed) vertices
-  std::size_t num_edges = 0;  ///< active edges (Edge::active)
+  std::size_t num_edges = 0;     ///< active edges (Edge::active)
   int system_dimension = 0;
   std::size_t hessian_nonzeros = 0;  ///< stored non-zeros (upper triangle, full diagonal blocks)
   std::size_t factor_nonzeros = 0;

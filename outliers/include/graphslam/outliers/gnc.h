@@ -34,13 +34,13 @@ class WeightKernel final : public RobustKernel {
 
 /// One GNC step, for progress output.
 struct GncIterationStats {
-  int iteration = 0;         ///< 1-based
-  double mu = 0.0;           ///< the control parameter the step's weights were made with
-  double cost = 0.0;         ///< sum of w_k chi2_k (known inliers: w = 1) after the step
-  std::size_t inliers = 0;   ///< candidates of weight >= rejection_weight
-  std::size_t undecided = 0; ///< candidates whose weight is neither 0 nor 1 (weight_tolerance)
+  int iteration = 0;          ///< 1-based
+  double mu = 0.0;            ///< the control parameter the step's weights were made with
+  double cost = 0.0;          ///< sum of w_k chi2_k (known inliers: w = 1) after the step
+  std::size_t inliers = 0;    ///< candidates of weight >= rejection_weight
+  std::size_t undecided = 0;  ///< candidates whose weight is neither 0 nor 1 (weight_tolerance)
   int optimizer_iterations = 0;
-  double elapsed = 0.0;      ///< seconds since the GNC started
+  double elapsed = 0.0;  ///< seconds since the GNC started
 };
 
 /// Graduated non-convexity with the truncated-least-squares (TLS) surrogate (Yang,
@@ -128,6 +128,12 @@ struct GncOptions {
 /// candidate.
 [[nodiscard]] bool isOdometryOrUnary(const Edge& edge);
 
+/// Whether `edge` is a known inlier under `options` (GncOptions::is_known_inlier, or
+/// isOdometryOrUnary when that is empty).
+[[nodiscard]] inline bool isKnownInlier(const GncOptions& options, const Edge& edge) {
+  return options.is_known_inlier ? options.is_known_inlier(edge) : isOdometryOrUnary(edge);
+}
+
 /// c^2 for an edge of `dimension` (chi-square quantile at `probability`, in (0, 1)).
 [[nodiscard]] double chi2Threshold(int dimension, double probability);
 
@@ -167,7 +173,7 @@ struct RejectedEdge {
 };
 
 struct GncResult {
-  bool ok = true;        ///< false when an optimizer step failed (message says why)
+  bool ok = true;  ///< false when an optimizer step failed (message says why)
   std::string message;
   bool converged = false;  ///< every weight decided (0 or 1) within max_iterations
   std::size_t known_inliers = 0;

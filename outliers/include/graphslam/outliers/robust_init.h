@@ -73,8 +73,7 @@ struct GlobalStartReport {
 /// the graph away (m3500); the TLS cost tells them apart. When the initialisation does
 /// not converge, runGnc from its estimate alone.
 [[nodiscard]] GncResult rejectFromGlobalStart(Graph& graph, const SolverRegistry& solvers,
-                                              LinearSolver* init_solver,
-                                              const GncOptions& options,
+                                              LinearSolver* init_solver, const GncOptions& options,
                                               GlobalStartReport* report = nullptr);
 
 }  // namespace graphslam::outliers
