@@ -434,11 +434,17 @@ int cmdListTypes(const std::vector<std::string>& args) {
       std::printf("%-28s vertex  dim %d  values %d%s  (%s)\n", e->tag.c_str(), v->dimension(),
                   v->estimateDataDimension(), parameterNote(v->parameterDataDimension()).c_str(),
                   e->origin.c_str());
+    } else if (e->kind == TypeRegistry::Kind::kParameter) {
+      auto p = e->make_parameter();
+      std::printf("%-28s param   values %d  (%s)\n", e->tag.c_str(), p->dataDimension(),
+                  e->origin.c_str());
     } else {
       auto ed = e->make_edge();
-      std::printf("%-28s edge    dim %d  vertices %s  measurement %d%s  (%s)\n", e->tag.c_str(),
+      const std::string refers =
+          ed->numParameters() > 0 ? "  parameter ids " + std::to_string(ed->numParameters()) : "";
+      std::printf("%-28s edge    dim %d  vertices %s%s  measurement %d%s  (%s)\n", e->tag.c_str(),
                   ed->dimension(), ed->arity() > 0 ? std::to_string(ed->arity()).c_str() : "any",
-                  ed->measurementDataDimension(),
+                  refers.c_str(), ed->measurementDataDimension(),
                   parameterNote(ed->parameterDataDimension()).c_str(), e->origin.c_str());
     }
   }

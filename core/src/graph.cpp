@@ -51,6 +51,28 @@ VertexId Edge::vertexId(std::size_t slot) const {
   return ids()[slot];
 }
 
+ParameterId Edge::parameterId(std::size_t slot) const {
+  if (slot >= static_cast<std::size_t>(numParameters())) {
+    throw std::out_of_range("edge parameter slot " + std::to_string(slot) +
+                            " out of range (the type has " + std::to_string(numParameters()) + ")");
+  }
+  return parameterSlots()[slot].id;
+}
+
+void Edge::setParameterId(std::size_t slot, ParameterId id) {
+  if (slot >= static_cast<std::size_t>(numParameters())) {
+    throw Error("edge parameter slot " + std::to_string(slot) + " out of range (the type has " +
+                std::to_string(numParameters()) + ")");
+  }
+  if (in_graph_) throw Error("parameter ids of an edge cannot change once it is in a graph");
+  parameterSlots()[slot].id = id;
+}
+
+const Parameter* Edge::parameter(std::size_t slot) const {
+  if (slot >= static_cast<std::size_t>(numParameters())) return nullptr;
+  return parameterSlots()[slot].parameter;
+}
+
 bool Edge::allVerticesFixed() const {
   if (!in_graph_) return true;
   return std::all_of(vertices(), vertices() + num_vertices_,
@@ -120,12 +142,44 @@ Edge& Graph::addEdge(std::unique_ptr<Edge> edge) {
     }
     resolved[slot] = it->second.get();
   }
+  resolveParameters(*edge);
   edge->in_graph_ = true;
   Edge* raw = edge.get();
   for (std::size_t slot = 0; slot < ids.size(); ++slot) resolved[slot]->edges_.push_back(raw);
   edges_.push_back(std::move(edge));
   ++version_;
   return *raw;
+}
+
+void Graph::resolveParameters(Edge& edge) const {
+  const int n = edge.numParameters();
+  Edge::ParameterSlot* slots = edge.parameterSlots();
+  for (int slot = 0; slot < n; ++slot) {
+    const ParameterId id = slots[slot].id;
+    auto it = parameters_.find(id);
+    if (it == parameters_.end()) {
+      throw Error("addEdge: edge refers to parameter " + std::to_string(id) +
+                  ", which is not in the graph");
+    }
+    if (!edge.acceptsParameter(static_cast<std::size_t>(slot), *it->second)) {
+      throw Error("addEdge: parameter " + std::to_string(id) +
+                  " has the wrong type for parameter slot " + std::to_string(slot));
+    }
+  }
+  for (int slot = 0; slot < n; ++slot) slots[slot].parameter = parameters_.at(slots[slot].id).get();
+}
+
+Parameter& Graph::addParameter(std::unique_ptr<Parameter> parameter) {
+  if (!parameter) throw Error("addParameter: null parameter");
+  const ParameterId id = parameter->id();
+  auto [it, inserted] = parameters_.emplace(id, std::move(parameter));
+  if (!inserted) throw Error("addParameter: duplicate parameter id " + std::to_string(id));
+  return *it->second;
+}
+
+const Parameter* Graph::parameter(ParameterId id) const {
+  auto it = parameters_.find(id);
+  return it == parameters_.end() ? nullptr : it->second.get();
 }
 
 bool Graph::removeVertex(VertexId id) {
@@ -177,6 +231,7 @@ std::size_t Graph::removeEdges(const std::function<bool(const Edge&)>& pred) {
 void Graph::clear() {
   edges_.clear();
   vertices_.clear();
+  parameters_.clear();
   ++version_;
 }
 

@@ -98,7 +98,9 @@ double parseDouble(std::string_view token, std::size_t index, std::string_view t
   return value;
 }
 
-VertexId parseId(std::string_view token, std::size_t index, std::string_view tag) {
+/// An id (`what`: "vertex id" or "parameter id"; both are ints).
+VertexId parseId(std::string_view token, std::size_t index, std::string_view tag,
+                 const char* what = "vertex id") {
   long long value = 0;
   auto res = std::from_chars(token.data(), token.data() + token.size(), value);
   const bool whole = res.ptr == token.data() + token.size();
@@ -106,13 +108,13 @@ VertexId parseId(std::string_view token, std::size_t index, std::string_view tag
                 (res.ec == std::errc() && (value < std::numeric_limits<VertexId>::min() ||
                                            value > std::numeric_limits<VertexId>::max())))) {
     throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is out of the range of vertex ids (" +
+                    " is out of the range of " + what + "s (" +
                     std::to_string(std::numeric_limits<VertexId>::min()) + " to " +
                     std::to_string(std::numeric_limits<VertexId>::max()) + ")"};
   }
   if (res.ec != std::errc() || !whole) {
     throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is not a vertex id (an integer)"};
+                    " is not a " + what + " (an integer)"};
   }
   return static_cast<VertexId>(value);
 }
@@ -120,12 +122,13 @@ VertexId parseId(std::string_view token, std::size_t index, std::string_view tag
 /// One parsed line: what reading it needs no graph for (tokens, numbers, the new vertex or
 /// edge object and its own checks), so that lines can be parsed on several threads.
 struct ParsedLine {
-  int line = 0;                      ///< 1-based, within its chunk
-  std::unique_ptr<Vertex> vertex;    ///< a vertex line
-  std::unique_ptr<Edge> edge;        ///< an edge line
-  std::vector<VertexId> fix;         ///< a FIX line
-  const std::string* tag = nullptr;  ///< a vertex or edge line's tag (the registry's string)
-  std::string error;                 ///< a bad line: why
+  int line = 0;                          ///< 1-based, within its chunk
+  std::unique_ptr<Vertex> vertex;        ///< a vertex line
+  std::unique_ptr<Edge> edge;            ///< an edge line
+  std::unique_ptr<Parameter> parameter;  ///< a parameter line
+  std::vector<VertexId> fix;             ///< a FIX line
+  const std::string* tag = nullptr;      ///< a vertex or edge line's tag (the registry's string)
+  std::string error;                     ///< a bad line: why
   bool bad = false;
 };
 
@@ -185,6 +188,19 @@ class LineParser {
                       " (graphslam list-types shows the known ones; --plugin loads more)"};
     }
     const std::size_t found = tokens.size() - 1;
+    if (entry->kind == TypeRegistry::Kind::kParameter) {
+      auto p = entry->make_parameter();
+      const std::size_t expected = 1 + static_cast<std::size_t>(p->dataDimension());
+      if (found != expected) throw LineError{countMessage(tag, expected, found)};
+      p->setId(parseId(tokens[1], 1, tag, "parameter id"));
+      values_.resize(expected - 1);
+      for (std::size_t i = 0; i + 1 < expected; ++i)
+        values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
+      out.error = refusal(tag, [&] { p->setData(values_.data()); });
+      out.parameter = std::move(p);
+      out.tag = &entry->tag;
+      return;
+    }
     if (entry->kind == TypeRegistry::Kind::kVertex) {
       auto v = entry->make_vertex();
       const std::size_t est = static_cast<std::size_t>(v->estimateDataDimension());
@@ -207,25 +223,34 @@ class LineParser {
     const std::size_t meas = static_cast<std::size_t>(e->measurementDataDimension()) +
                              static_cast<std::size_t>(e->parameterDataDimension());
     const std::size_t info = static_cast<std::size_t>(d * (d + 1) / 2);
+    // Parameter ids follow the vertex ids (g2o's layout).
+    const std::size_t num_params = static_cast<std::size_t>(e->numParameters());
+    const std::size_t rest = num_params + meas + info;
     std::size_t num_ids = 0;
     if (e->arity() > 0) {
       num_ids = static_cast<std::size_t>(e->arity());
-      if (found != num_ids + meas + info)
-        throw LineError{countMessage(tag, num_ids + meas + info, found)};
+      if (found != num_ids + rest) throw LineError{countMessage(tag, num_ids + rest, found)};
     } else {
-      if (found < 1 + meas + info) {
-        throw LineError{tag + " expects at least " + std::to_string(1 + meas + info) +
-                        " numbers after the tag (vertex ids, " + std::to_string(meas) +
-                        " measurement and parameter values, " + std::to_string(info) +
-                        " information values), found " + std::to_string(found)};
+      if (found < 1 + rest) {
+        throw LineError{tag + " expects at least " + std::to_string(1 + rest) +
+                        " numbers after the tag (vertex ids, " +
+                        (num_params ? std::to_string(num_params) + " parameter ids, " : "") +
+                        std::to_string(meas) + " measurement and parameter values, " +
+                        std::to_string(info) + " information values), found " +
+                        std::to_string(found)};
       }
-      num_ids = found - meas - info;
+      num_ids = found - rest;
     }
     std::vector<VertexId> ids(num_ids);  // moved into the edge
     for (std::size_t i = 0; i < num_ids; ++i) ids[i] = parseId(tokens[1 + i], 1 + i, tag);
+    for (std::size_t i = 0; i < num_params; ++i) {
+      const std::size_t at = 1 + num_ids + i;
+      e->setParameterId(i, parseId(tokens[at], at, tag, "parameter id"));
+    }
     values_.resize(meas + info);
+    const std::size_t first_value = 1 + num_ids + num_params;
     for (std::size_t i = 0; i < meas + info; ++i) {
-      values_[i] = parseDouble(tokens[1 + num_ids + i], 1 + num_ids + i, tag);
+      values_[i] = parseDouble(tokens[first_value + i], first_value + i, tag);
     }
     Eigen::MatrixXd& omega = omega_;  // storage reused from line to line
     omega.resize(d, d);
@@ -461,6 +486,15 @@ class Reader {
       for (VertexId id : p.fix) fixes_.emplace_back(line_no, id);
       return true;
     }
+    if (p.parameter) {
+      const ParameterId id = p.parameter->id();
+      if (result_.graph.parameter(id)) {
+        return report(line_no, *p.tag + ": duplicate parameter id " + std::to_string(id));
+      }
+      if (!p.error.empty()) return report(line_no, std::move(p.error));
+      result_.graph.addParameter(std::move(p.parameter));
+      return true;
+    }
     if (p.vertex) {
       const VertexId id = p.vertex->id();
       if (result_.graph.hasVertex(id)) {
@@ -475,6 +509,8 @@ class Reader {
     }
     // The ids outlive an edge that addEdge refuses (and destroys); storage reused.
     ids_.assign(p.edge->vertexIds().begin(), p.edge->vertexIds().end());
+    param_ids_.resize(static_cast<std::size_t>(p.edge->numParameters()));
+    for (std::size_t i = 0; i < param_ids_.size(); ++i) param_ids_[i] = p.edge->parameterId(i);
     if (p.error.empty()) {
       // The usual case: addEdge finds the vertices (no second look-up here).
       try {
@@ -497,7 +533,14 @@ class Reader {
                ", which is not defined before this line";
       }
     }
+    for (ParameterId id : param_ids_) {
+      if (!result_.graph.parameter(id)) {
+        return tag + ": refers to parameter " + std::to_string(id) +
+               ", which is not defined before this line";
+      }
+    }
     if (const std::string slot = wrongSlotMessage(tag); !slot.empty()) return slot;
+    if (const std::string slot = wrongParameterMessage(tag); !slot.empty()) return slot;
     if (message.rfind("addEdge: ", 0) == 0) return tag + ": " + message.substr(9);
     return message;
   }
@@ -526,6 +569,30 @@ class Reader {
     return {};
   }
 
+  /// For an edge refused because a parameter has the wrong type: which parameter, its tag
+  /// and the tags the slot takes; empty when every slot accepts its parameter.
+  std::string wrongParameterMessage(const std::string& tag) const {
+    const TypeRegistry::Entry* entry = types_.find(tag);
+    if (!entry || entry->kind != TypeRegistry::Kind::kEdge) return {};
+    const auto probe = entry->make_edge();
+    for (std::size_t slot = 0; slot < param_ids_.size(); ++slot) {
+      const Parameter* p = result_.graph.parameter(param_ids_[slot]);
+      if (!p || probe->acceptsParameter(slot, *p)) continue;
+      std::string takes;
+      for (const TypeRegistry::Entry* e : types_.entries()) {
+        if (e->kind != TypeRegistry::Kind::kParameter) continue;
+        if (probe->acceptsParameter(slot, *e->make_parameter()))
+          takes += (takes.empty() ? "" : " or ") + e->tag;
+      }
+      const std::string* is = types_.tagOf(*p);
+      return tag + ": parameter " + std::to_string(param_ids_[slot]) +
+             " has the wrong type for parameter slot " + std::to_string(slot) + ": it is a " +
+             (is ? *is : std::string("parameter of no registered tag")) + ", the slot takes " +
+             (takes.empty() ? std::string("no registered parameter type") : takes);
+    }
+    return {};
+  }
+
   /// Line of the vertex `id` (read earlier). Only a duplicate's message needs it: the
   /// index is built then, and kept up to date from there on.
   int vertexLine(VertexId id) {
@@ -543,7 +610,8 @@ class Reader {
   std::vector<std::pair<VertexId, int>> vertex_lines_;  ///< in file order
   std::unordered_map<VertexId, int> line_index_;        ///< vertex_lines_[0, indexed_)
   std::size_t indexed_ = 0;
-  std::vector<VertexId> ids_;  ///< the vertices of the edge being added
+  std::vector<VertexId> ids_;           ///< the vertices of the edge being added
+  std::vector<ParameterId> param_ids_;  ///< its parameters
   std::vector<std::pair<int, VertexId>> fixes_;
 };
 

@@ -71,6 +71,18 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
   for (const auto& [id, v] : graph.vertices()) vertices.push_back(v.get());
   // Per-thread scratch: the threads of writeLines format disjoint items.
   thread_local std::vector<double> data;
+  for (const auto& [id, p] : graph.parameters()) {
+    const std::string* tag = types.tagOf(*p);
+    if (!tag)
+      throw Error("cannot write parameter " + std::to_string(id) + ": its type is not registered");
+    std::string line = *tag;
+    appendId(line, id);
+    data.resize(static_cast<std::size_t>(p->dataDimension()));
+    p->getData(data.data());
+    for (double x : data) appendDouble(line, x);
+    line += '\n';
+    out.write(line.data(), static_cast<std::streamsize>(line.size()));
+  }
   writeLines(out, vertices.size(), [&](std::size_t i, std::string& line) {
     const Vertex& v = *vertices[i];
     const std::string* tag = types.tagOf(v);
@@ -96,6 +108,8 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
                   ": its type is not registered");
     line += *tag;
     for (VertexId id : e.vertexIds()) appendId(line, id);
+    for (int k = 0; k < e.numParameters(); ++k)
+      appendId(line, e.parameterId(static_cast<std::size_t>(k)));
     data.resize(static_cast<std::size_t>(e.measurementDataDimension()));
     e.getMeasurementData(data.data());
     for (double x : data) appendDouble(line, x);

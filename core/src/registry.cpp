@@ -2,10 +2,10 @@
 #include <cxxabi.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
-#include <cctype>
 
 #include "graphslam/core/error.h"
 #include "graphslam/core/linear_solver.h"
@@ -32,11 +32,12 @@ void checkName(const std::string& name, const char* what) {
 }
 }  // namespace
 
-void TypeRegistry::addEntry(const std::string& tag, Kind kind, std::type_index type,
-                            std::function<std::unique_ptr<Vertex>()> make_vertex,
-                            std::function<std::unique_ptr<Edge>()> make_edge) {
+void TypeRegistry::addEntry(Entry entry, std::type_index type) {
+  const std::string& tag = entry.tag;
   checkName(tag, "type tag");
-  if ((kind == Kind::kVertex && !make_vertex) || (kind == Kind::kEdge && !make_edge)) {
+  if ((entry.kind == Kind::kVertex && !entry.make_vertex) ||
+      (entry.kind == Kind::kEdge && !entry.make_edge) ||
+      (entry.kind == Kind::kParameter && !entry.make_parameter)) {
     throw RegistryError("null factory for type tag '" + tag + "'");
   }
   if (const auto it = entries_.find(tag); it != entries_.end()) {
@@ -47,18 +48,19 @@ void TypeRegistry::addEntry(const std::string& tag, Kind kind, std::type_index t
   if (t != tags_.end()) {
     throw RegistryError("type for tag '" + tag + "' is already registered as '" + t->second + "'");
   }
-  entries_.emplace(tag, Entry{tag, kind, origin_, std::move(make_vertex), std::move(make_edge)});
+  entry.origin = origin_;
   tags_.emplace(type, tag);
+  entries_.emplace(tag, std::move(entry));
 }
 
 void TypeRegistry::registerVertexFactory(const std::string& tag, std::type_index type,
                                          std::function<std::unique_ptr<Vertex>()> factory) {
-  addEntry(tag, Kind::kVertex, type, std::move(factory), nullptr);
+  addEntry(Entry{tag, Kind::kVertex, origin_, std::move(factory), {}, {}}, type);
 }
 
 void TypeRegistry::registerEdgeFactory(const std::string& tag, std::type_index type,
                                        std::function<std::unique_ptr<Edge>()> factory) {
-  addEntry(tag, Kind::kEdge, type, nullptr, std::move(factory));
+  addEntry(Entry{tag, Kind::kEdge, origin_, {}, std::move(factory), {}}, type);
 }
 
 const TypeRegistry::Entry* TypeRegistry::find(const std::string& tag) const {
@@ -80,6 +82,17 @@ std::unique_ptr<Edge> TypeRegistry::createEdge(const std::string& tag) const {
 
 const std::string* TypeRegistry::tagOf(const Vertex& v) const {
   auto it = tags_.find(std::type_index(typeid(v)));
+  return it == tags_.end() ? nullptr : &it->second;
+}
+
+std::unique_ptr<Parameter> TypeRegistry::createParameter(const std::string& tag) const {
+  const Entry* e = find(tag);
+  if (!e || e->kind != Kind::kParameter) throw RegistryError("unknown parameter tag '" + tag + "'");
+  return e->make_parameter();
+}
+
+const std::string* TypeRegistry::tagOf(const Parameter& p) const {
+  auto it = tags_.find(std::type_index(typeid(p)));
   return it == tags_.end() ? nullptr : &it->second;
 }
 
@@ -119,9 +132,9 @@ std::shared_ptr<RobustKernel> TypeRegistry::createKernel(const std::string& name
   if (!k) {
     std::string known;
     for (const auto& [n, entry] : kernels_) known += (known.empty() ? "" : ", ") + n;
-    throw RegistryError("unknown robust kernel '" + name + "'" +
-                        (known.empty() ? std::string(" (none is registered)")
-                                       : " (known: " + known + ")"));
+    throw RegistryError(
+        "unknown robust kernel '" + name + "'" +
+        (known.empty() ? std::string(" (none is registered)") : " (known: " + known + ")"));
   }
   if (std::isnan(width)) width = k->default_width;
   if (!(width > 0.0) || !std::isfinite(width)) {
@@ -298,7 +311,8 @@ std::vector<const SolverRegistry::Entry*> SolverRegistry::entries() const {
 }
 
 void SolverRegistry::registerOrdering(Ordering ordering, OrderingFunction function) {
-  if (!function) throw RegistryError(std::string("null ordering function for ") + toString(ordering));
+  if (!function)
+    throw RegistryError(std::string("null ordering function for ") + toString(ordering));
   if (!orderings_.emplace(ordering, std::move(function)).second) {
     throw RegistryError(std::string("ordering ") + toString(ordering) + " is already registered");
   }

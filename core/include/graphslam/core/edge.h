@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graphslam/core/parameter.h"
 #include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/vertex.h"
 
@@ -87,6 +88,22 @@ class Edge {
   void setVertexIds(std::vector<VertexId> ids);
   void setVertexId(std::size_t slot, VertexId id);
 
+  /// Number of parameters (shared constants such as a sensor offset, see Parameter) the
+  /// type refers to by id; in a `.g2o` line their ids follow the vertex ids. Default: none
+  /// (`ParameterizedEdge` adds them).
+  [[nodiscard]] virtual int numParameters() const { return 0; }
+  /// Throws std::out_of_range for a slot the type does not have.
+  [[nodiscard]] ParameterId parameterId(std::size_t slot) const;
+  /// Before the edge is added to a graph. Throws graphslam::Error for a slot the type does
+  /// not have or once the edge is in a graph.
+  void setParameterId(std::size_t slot, ParameterId id);
+  /// Parameter in `slot`, resolved by the graph (nullptr before insertion).
+  [[nodiscard]] const Parameter* parameter(std::size_t slot) const;
+  /// Whether `p` has the type parameter slot `slot` expects (checked by Graph::addEdge).
+  [[nodiscard]] virtual bool acceptsParameter(std::size_t /*slot*/, const Parameter& /*p*/) const {
+    return false;
+  }
+
   /// Vertex in `slot`, resolved by the graph (nullptr before insertion).
   [[nodiscard]] const Vertex* vertex(std::size_t slot) const { return vertices()[slot]; }
   [[nodiscard]] bool allVerticesFixed() const;
@@ -162,6 +179,17 @@ class Edge {
   virtual void setInformationData(const double* data) = 0;
 
  protected:
+  /// A parameter slot: the id read from the file and the parameter the graph resolved.
+  struct ParameterSlot {
+    ParameterId id = -1;
+    const Parameter* parameter = nullptr;
+  };
+  /// The type's numParameters() slots (storage of ParameterizedEdge); null for none.
+  [[nodiscard]] virtual ParameterSlot* parameterSlots() { return nullptr; }
+  [[nodiscard]] const ParameterSlot* parameterSlots() const {
+    return const_cast<Edge*>(this)->parameterSlots();
+  }
+
   /// Writable access to the vertex in `slot` (nullptr before insertion into a graph), for
   /// methods that initialise a vertex from the measurement (odometry chaining, landmark
   /// initialisation). Never use it in computeError() or linearizeOplus().

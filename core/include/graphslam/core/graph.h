@@ -8,11 +8,12 @@
 #include <vector>
 
 #include "graphslam/core/edge.h"
+#include "graphslam/core/parameter.h"
 #include "graphslam/core/vertex.h"
 
 namespace graphslam {
 
-/// Owns the vertices and edges of a factor graph. Vertices and edges may be added and
+/// Owns the vertices, edges and parameters of a factor graph. Vertices and edges may be added and
 /// removed at any time (online use); removing a vertex removes its edges. Edges refer to
 /// vertices by id and are resolved to non-owning pointers on insertion.
 class Graph {
@@ -27,8 +28,19 @@ class Graph {
   /// Takes ownership. Throws graphslam::Error on a null vertex or a duplicate id.
   Vertex& addVertex(std::unique_ptr<Vertex> vertex);
   /// Takes ownership. Throws graphslam::Error when a vertex id is unset or unknown, a
-  /// vertex appears twice, or a vertex has the wrong type for its slot.
+  /// vertex appears twice, a vertex has the wrong type for its slot, or a parameter the
+  /// edge refers to is not in the graph or has the wrong type.
   Edge& addEdge(std::unique_ptr<Edge> edge);
+
+  /// Takes ownership. Throws graphslam::Error on a null parameter or a duplicate id.
+  /// Parameters stay until clear(): edges added later refer to them by id (Edge::parameterId),
+  /// resolved by addEdge, which throws when one is missing or has the wrong type.
+  Parameter& addParameter(std::unique_ptr<Parameter> parameter);
+  [[nodiscard]] const Parameter* parameter(ParameterId id) const;
+  /// Parameters by increasing id.
+  [[nodiscard]] const std::map<ParameterId, std::unique_ptr<Parameter>>& parameters() const {
+    return parameters_;
+  }
 
   /// Removes the vertex and every edge incident to it. Returns false if the id is unknown.
   bool removeVertex(VertexId id);
@@ -62,6 +74,10 @@ class Graph {
   [[nodiscard]] double chi2();
 
  private:
+  void resolveParameters(Edge& edge) const;
+
+  // Declared first: destroyed after the edges that point to them.
+  std::map<ParameterId, std::unique_ptr<Parameter>> parameters_;
   std::map<VertexId, std::unique_ptr<Vertex>> vertices_;
   std::vector<std::unique_ptr<Edge>> edges_;
   std::uint64_t version_ = 0;

@@ -51,8 +51,9 @@ struct LoadResult {
 
 /// Reads a `.g2o` file through `types`: one element per line, `TAG values...`, `FIX id...`,
 /// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
-/// `TAG ids... measurement... parameters... information-upper-triangle...` (parameters:
-/// see Vertex/Edge::parameterDataDimension; most types have none). Checks: unknown tag, wrong
+/// `TAG ids... parameter-ids... measurement... parameters... information-upper-triangle...`
+/// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
+/// most types have neither), a parameter line `TAG id values...` (Parameter). Checks: unknown tag, wrong
 /// number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex, vertex
 /// of the wrong type, information matrix not positive definite, a parameter the type refuses. Never
 /// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0 and
@@ -63,7 +64,7 @@ struct LoadResult {
 [[nodiscard]] LoadResult readG2o(std::istream& in, const std::string& name,
                                  const TypeRegistry& types, const LoadOptions& options = {});
 
-/// Writes vertices (by id), `FIX` lines, then edges (in graph order). Numbers are written
+/// Writes parameters and vertices (by id), `FIX` lines, then edges (in graph order). Numbers are written
 /// with the shortest representation that reads back exactly. Throws graphslam::Error when
 /// a vertex or edge type is not registered.
 void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types);
