@@ -14,6 +14,7 @@
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
+#include "graphslam/types_slam3d/register.h"
 #endif
 
 namespace graphslam::apps {
@@ -58,6 +59,8 @@ std::vector<std::unique_ptr<Plugin>> loadTypesAndSolvers(TypeRegistry& types,
 #ifndef GRAPHSLAM_TOOL_PLUGINS
   types.setOrigin("types_slam2d");
   types_slam2d::registerTypes(types);
+  types.setOrigin("types_slam3d");
+  types_slam3d::registerTypes(types);
   types.setOrigin("types_drivebot");
   types_drivebot::registerTypes(types);
   types.setOrigin("robust");

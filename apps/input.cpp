@@ -9,6 +9,7 @@
 #include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/init/chordal3d.h"
 #include "graphslam/init/initialization.h"
 
 namespace graphslam::apps {
@@ -38,6 +39,17 @@ void checkInitChoice(const std::string& init) {
   }
 }
 
+namespace {
+void reportInitialization(const char* kind, const init::InitializationReport& r) {
+  if (!r.message.empty()) {
+    std::cout << "initialisation: " << r.message << "\n";
+  } else {
+    std::printf("initialisation: %s, %zu poses and %zu landmarks placed in %.4f s\n", kind, r.poses,
+                r.landmarks, r.seconds);
+  }
+}
+}  // namespace
+
 void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
                        const SolverRegistry& solvers) {
   checkInitChoice(init);
@@ -45,21 +57,26 @@ void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
     init = in.keep_initial_guess ? "none" : "global";
     if (in.keep_initial_guess) {
       std::cout << "initialisation: none (keeping the file's initial guess; --init global "
-                   "applies to SE(2) graphs only)\n";
+                   "applies to SE(2) and SE(3) pose graphs)\n";
     }
   }
   if (init != "global") return;
   // The initial guess's two linear systems get the default solver's choice of ordering
   // and backend (large graphs need nested dissection and a supernodal factorisation).
   const auto init_solver = solvers.create("auto");
-  const auto r = init::initializeGlobal(graph, init_solver.get());
-  if (!r.message.empty()) {
-    std::cout << "initialisation: " << r.message << "\n";
-  } else {
-    std::printf("initialisation: global, %zu poses and %zu landmarks placed in %.4f s\n", r.poses,
-                r.landmarks, r.seconds);
-    std::fflush(stdout);
+  const auto r2 = init::initializeGlobal(graph, init_solver.get());
+  const auto r3 = init::initializeChordal3d(graph);
+  if (r2.poses > 0 || (!r2.message.empty() && r3.poses == 0 && r3.message.empty())) {
+    reportInitialization("global", r2);
   }
+  if (r3.poses > 0 || (!r3.message.empty() && r2.poses == 0 && r2.message.empty())) {
+    reportInitialization("global 3D (chordal)", r3);
+  }
+  if (r2.poses == 0 && r3.poses == 0 && !r2.message.empty() && !r3.message.empty()) {
+    std::cout << "initialisation: no EDGE_SE2 or EDGE_SE3:QUAT in the graph: nothing to "
+                 "initialise\n";
+  }
+  std::fflush(stdout);
 }
 
 LoadedInput loadInput(const std::string& path, const TypeRegistry& types,

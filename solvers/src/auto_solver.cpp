@@ -196,8 +196,10 @@ class AutoSolver final : public LinearSolver {
     plan_.blocks = block_size == 2 || block_size == 3;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     const AutoSolverOptions& o = options_.auto_solver;
-    plan_.supernodal = plan_.chosen.prediction.flops >
-                       (plan_.blocks ? o.block_supernodal_flops : o.supernodal_flops);
+    const double threshold = plan_.blocks      ? o.block_supernodal_flops
+                             : block_size >= 4 ? o.wide_block_supernodal_flops
+                                               : o.supernodal_flops;
+    plan_.supernodal = plan_.chosen.prediction.flops > threshold;
 #else
     plan_.supernodal = false;
 #endif

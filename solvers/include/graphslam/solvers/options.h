@@ -53,6 +53,11 @@ struct AutoSolverOptions {
   /// The same for systems of 2x2 or 3x3 blocks, against block-llt: its fixed-size kernels
   /// stay ahead of CHOLMOD up to a smaller size than eigen-ldlt does.
   double block_supernodal_flops = 1e9;
+  /// The same for systems with vertices of 4 or more dimensions (3D poses): their dense
+  /// 6x6 blocks make wide supernodes from the start, where CHOLMOD's BLAS fronts beat the
+  /// simplicial eigen-ldlt already at garage's 2e7 flops (1.5x; sphere2500 and torus3d
+  /// 2-3x).
+  double wide_block_supernodal_flops = 1e7;
   /// Above this many predicted flops with AMD, METIS is computed as well and taken when it
   /// predicts fewer: it costs about as much as a factorisation of a few 1e7 flops and pays
   /// only on larger graphs.

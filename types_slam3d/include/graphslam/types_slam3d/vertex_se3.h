@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "graphslam/core/base_vertex.h"
+#include "graphslam/core/data_traits.h"
+#include "graphslam/geometry/se3.h"
+
+namespace graphslam {
+/// An SE(3) transform as `.g2o` numbers: x y z qx qy qz qw (the quaternion normalised on
+/// reading).
+template <>
+struct DataTraits<geometry::SE3> {
+  static constexpr int kDimension = 7;
+  static void toData(const geometry::SE3& v, double* out) {
+    Eigen::Map<geometry::Vector7d> target(out);
+    target = v.toVectorQT();
+  }
+  static geometry::SE3 fromData(const double* in) {
+    return geometry::SE3::fromVectorQT(Eigen::Map<const geometry::Vector7d>(in));
+  }
+};
+}  // namespace graphslam
+
+namespace graphslam::types_slam3d {
+
+using geometry::SE3;
+
+/// 3D robot pose — `.g2o` tag VERTEX_SE3:QUAT (x y z qx qy qz qw).
+/// Update (6D, translation then rotation vector), applied on the right as g2o does:
+/// X (+) d = X * (Exp(d_rot), d_trans), i.e. t + R d_trans, R Exp(d_rot).
+class VertexSE3 final : public BaseVertex<6, SE3> {
+ public:
+  [[nodiscard]] SE3 plus(const SE3& x, const TangentVector& d) const override {
+    return {x.so3() * geometry::SO3::exp(d.tail<3>()), x * Eigen::Vector3d(d.head<3>())};
+  }
+};
+
+/// 3D point — `.g2o` tag VERTEX_TRACKXYZ (x y z); the update adds.
+class VertexPointXYZ final : public BaseVertex<3, Eigen::Vector3d> {
+ public:
+  [[nodiscard]] Eigen::Vector3d plus(const Eigen::Vector3d& x,
+                                     const TangentVector& d) const override {
+    return x + d;
+  }
+};
+
+}  // namespace graphslam::types_slam3d
