@@ -140,7 +140,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
 
 /// The options of graphslam optimize.
 struct OptimizeOptions {
-  std::string input, output, algorithm, solver, stats_file, plot, npz_model;
+  std::string input, output, algorithm, solver, stats_file, plot, npz_model, information;
   int iterations = 100;
   std::vector<std::string> plugins;
   std::string damping, first_step, init, marginals_file, marginals_tag;
@@ -164,11 +164,15 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "load types/solvers from this shared library (repeatable)")(
       "stats", po::value(&o.stats_file), "write per-iteration statistics as CSV")(
       "init", po::value(&o.init)->default_value("auto"),
-      "initial guess: none (the file's estimates), global (SE(2) orientations, then positions, "
-      "by linear least squares; only SE(2) graphs) or auto (none for .npz files, which carry the "
-      "homework's initial guess; global otherwise)")(
+      "initial guess: none (the file's estimates), global (orientations, then positions, "
+      "by linear least squares: chordal relaxation for SE(2) and SE(3) pose graphs) or auto "
+      "(none for .npz files, which carry the homework's initial guess; global otherwise)")(
       "npz-model", po::value(&o.npz_model)->default_value("auto"),
       "observations of a .npz file: auto (decided from the file), linear or bearing-range")(
+      "information", po::value(&o.information)->default_value("refuse"),
+      "information matrices that are not positive definite: refuse (an error listing "
+      "them), nearest-pd (eigenvalues raised to 1e-6 of the largest) or isotropic (one "
+      "weight per translation and rotation block, as SE-Sync derives them)")(
       "plot", po::value(&o.plot),
       "draw the initial and final positions (and the ground truth) into this PNG")(
       "quiet,q", "print only the summary")(
@@ -264,6 +268,7 @@ LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
   InputOptions input_options;
   input_options.npz_model = parseNpzModel(o.npz_model);
   input_options.threads = o.options.threads;
+  input_options.information = parseInformationRepair(o.information);
   checkInitChoice(o.init);
   LoadedInput in;
   if (o.input.empty()) {

@@ -33,6 +33,13 @@ homework::PointObservationModel parseNpzModel(const std::string& text) {
   throw UsageError("--npz-model must be auto, linear or bearing-range, not '" + text + "'");
 }
 
+InformationRepair parseInformationRepair(const std::string& text) {
+  if (text == "refuse") return InformationRepair::kRefuse;
+  if (text == "nearest-pd") return InformationRepair::kNearestPd;
+  if (text == "isotropic") return InformationRepair::kIsotropic;
+  throw UsageError("--information must be refuse, nearest-pd or isotropic, not '" + text + "'");
+}
+
 void checkInitChoice(const std::string& init) {
   if (init != "auto" && init != "global" && init != "none") {
     throw UsageError("--init must be auto, none or global, not '" + init + "'");
@@ -107,6 +114,7 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   }
   io::LoadOptions load_options;
   load_options.threads = options.threads;
+  load_options.information = options.information;
   auto loaded = io::loadG2o(path, types, load_options);
   if (!loaded.ok()) {
     std::string all;
@@ -117,6 +125,12 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   in.graph = std::move(loaded.graph);
   in.edge_lines = std::move(loaded.edge_lines);
   in.description = ".g2o graph";
+  if (loaded.repaired_information > 0) {
+    in.notes.push_back(
+        std::to_string(loaded.repaired_information) + " of " + std::to_string(in.graph.numEdges()) +
+        " information matrices were not positive definite and were repaired (" +
+        (options.information == InformationRepair::kIsotropic ? "isotropic" : "nearest-pd") + ")");
+  }
   return in;
 }
 

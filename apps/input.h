@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/information.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/homework/coursework_npz.h"
@@ -29,7 +30,13 @@ struct InputOptions {
   homework::PointObservationModel npz_model = homework::PointObservationModel::kAuto;
   /// Threads parsing a .g2o file (io::LoadOptions::threads).
   int threads = 1;
+  /// Information matrices that are not positive definite: refused or repaired
+  /// (io::LoadOptions::information).
+  InformationRepair information = InformationRepair::kRefuse;
 };
+
+/// Parses refuse|nearest-pd|isotropic (--information); throws UsageError otherwise.
+[[nodiscard]] InformationRepair parseInformationRepair(const std::string& text);
 
 /// A graph read from a file, with what came with it.
 struct LoadedInput {

@@ -130,6 +130,8 @@ struct ParsedLine {
   const std::string* tag = nullptr;      ///< a vertex or edge line's tag (the registry's string)
   std::string error;                     ///< a bad line: why
   bool bad = false;
+  bool indefinite = false;  ///< an edge whose information is not positive definite (refused)
+  bool repaired = false;    ///< ... that was repaired
 };
 
 /// A run of whole lines of the input and, once parsed, its lines.
@@ -144,7 +146,8 @@ struct Chunk {
 /// Parses chunks; one per thread (its scratch storage is reused from line to line).
 class LineParser {
  public:
-  explicit LineParser(const TypeRegistry& types) : types_(types) {}
+  LineParser(const TypeRegistry& types, const LoadOptions& options)
+      : types_(types), options_(options) {}
 
   void parse(Chunk& chunk) {
     chunk.lines.clear();
@@ -266,6 +269,11 @@ class LineParser {
     // order: the information matrix, then the parameters.
     e->setVertexIds(std::move(ids));
     if (llt_.compute(omega).info() != Eigen::Success) {
+      out.repaired = repairInformation(omega, options_.information, options_.nearest_pd_floor) &&
+                     llt_.compute(omega).info() == Eigen::Success;
+      out.indefinite = !out.repaired;
+    }
+    if (out.indefinite) {
       out.error = tag + ": information matrix is not positive definite";
     } else {
       e->setMeasurementData(values_.data());
@@ -295,6 +303,7 @@ class LineParser {
   }
 
   const TypeRegistry& types_;
+  const LoadOptions& options_;
   std::vector<double> values_;
   std::vector<std::string_view> tokens_;
   Eigen::MatrixXd omega_;
@@ -312,11 +321,11 @@ class Reader {
   LoadResult run(std::istream& in) {
     const int threads = std::max(1, options_.threads);
     const std::size_t chunk_bytes = std::max<std::size_t>(1, options_.chunk_bytes);
-    LineParser own(types_);
+    LineParser own(types_, options_);
     std::deque<std::unique_ptr<Chunk>> window;  // read, not yet added; in file order
     std::string carry;                          // a line begun in the last chunk read
     bool eof = false;
-    Workers workers(types_);
+    Workers workers(types_, options_);
     const std::size_t max_window = 2 * static_cast<std::size_t>(threads);
     int line_base = 0;
     while (true) {
@@ -342,6 +351,7 @@ class Reader {
     }
     result_.lines = static_cast<std::size_t>(line_base);
     if (in.bad()) report(line_base, "read error");
+    if (!reportIndefinite()) return std::move(result_);
     for (const auto& [line_of_fix, id] : fixes_) {
       Vertex* v = result_.graph.vertex(id);
       if (!v) {
@@ -392,7 +402,8 @@ class Reader {
   /// oldest itself when no worker has taken it by the time it is to be added.
   class Workers {
    public:
-    explicit Workers(const TypeRegistry& types) : types_(types) {}
+    Workers(const TypeRegistry& types, const LoadOptions& options)
+        : types_(types), options_(options) {}
     Workers(const Workers&) = delete;
     Workers& operator=(const Workers&) = delete;
     ~Workers() {
@@ -408,7 +419,7 @@ class Reader {
     void start(int count) {
       while (static_cast<int>(threads_.size()) < count) {
         threads_.emplace_back([this] {
-          LineParser parser(types_);
+          LineParser parser(types_, options_);
           while (Chunk* c = take()) parseOne(parser, *c);
         });
       }
@@ -460,6 +471,7 @@ class Reader {
     }
 
     const TypeRegistry& types_;
+    const LoadOptions& options_;
     std::mutex mutex_;
     std::condition_variable ready_, parsed_;
     std::deque<Chunk*> todo_;
@@ -478,10 +490,38 @@ class Reader {
     return true;
   }
 
+  /// The edges refused for their information (LoadOptions::information): the first few
+  /// lines were listed as they came; a summary follows, and the load fails. Returns false
+  /// then.
+  bool reportIndefinite() {
+    const std::size_t n = result_.refused_information;
+    if (n == 0) return true;
+    const std::size_t edges = result_.graph.numEdges() + n;
+    std::string listed;
+    if (n > LoadOptions::kListedLines) {
+      listed = " (the first " + std::to_string(LoadOptions::kListedLines) + " are listed above)";
+    }
+    result_.diagnostics.push_back(
+        {name_, 0,
+         std::to_string(n) + " of " + std::to_string(edges) +
+             " edges have an information matrix that is not positive definite" + listed +
+             "; --information nearest-pd or --information isotropic repairs them"});
+    result_.failed = true;
+    return false;
+  }
+
   /// Adds a parsed line to the graph (the checks that need the lines before it); returns
   /// false when loading must stop.
   bool commit(ParsedLine& p, int line_no) {
     if (p.bad) return report(line_no, std::move(p.error));
+    if (p.indefinite && options_.strict && allDefined(*p.edge)) {
+      // Counted to the end of the file, so that the message gives the whole extent.
+      if (++result_.refused_information <= LoadOptions::kListedLines) {
+        result_.diagnostics.push_back({name_, line_no, std::move(p.error)});
+      }
+      return true;
+    }
+    if (p.repaired) ++result_.repaired_information;
     if (!p.fix.empty()) {
       for (VertexId id : p.fix) fixes_.emplace_back(line_no, id);
       return true;
@@ -522,6 +562,17 @@ class Reader {
       }
     }
     return report(line_no, edgeMessage(*p.tag, p.error));
+  }
+
+  /// Whether every vertex and parameter the edge refers to is defined.
+  bool allDefined(const Edge& e) const {
+    for (VertexId id : e.vertexIds()) {
+      if (!result_.graph.hasVertex(id)) return false;
+    }
+    for (int k = 0; k < e.numParameters(); ++k) {
+      if (!result_.graph.parameter(e.parameterId(static_cast<std::size_t>(k)))) return false;
+    }
+    return true;
   }
 
   /// The message for an edge on the vertices ids_ that was not added: a vertex not defined

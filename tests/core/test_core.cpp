@@ -252,7 +252,9 @@ TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
     std::istringstream in(header + c.body);
     auto r = io::readG2o(in, "bad.g2o", types);
     ASSERT_FALSE(r.ok()) << c.body;
-    ASSERT_EQ(r.diagnostics.size(), 1u);
+    // Refused information matrices are counted to the end of the file and summed up.
+    const bool information = c.fragment.find("information") != std::string::npos;
+    ASSERT_EQ(r.diagnostics.size(), information ? 2u : 1u);
     EXPECT_EQ(r.diagnostics[0].line, c.line) << c.body;
     EXPECT_NE(r.diagnostics[0].str().find("bad.g2o:" + std::to_string(c.line) + ": "),
               std::string::npos);

@@ -5,6 +5,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <random>
+#include <sstream>
 
 #include "../common/hessian_reference.h"
 #include "../common/test_util.h"
@@ -12,9 +13,11 @@
 #include "graphslam/core/logging.h"
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
-#include "graphslam/solvers/register.h"
+#include "graphslam/init/chordal3d.h"
 #include "graphslam/init/initialization.h"
+#include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/register.h"
+#include "graphslam/types_slam3d/register.h"
 
 using namespace graphslam;
 
@@ -29,6 +32,7 @@ struct Dataset {
 
   explicit Dataset(const std::string& file) : path(test::dataDir() + "/" + file) {
     types_slam2d::registerTypes(types);
+    types_slam3d::registerTypes(types);
     solvers::registerSolvers(solvers);
     if (present()) loaded = io::loadG2o(path, types);
   }
@@ -68,7 +72,8 @@ TEST_P(Datasets_Regression, ReachesBestKnownChi2) {
   setLogLevel(LogLevel::kError);
   if (c.global_init) {
     const auto report = init::initializeGlobal(loaded.graph);
-    ASSERT_TRUE(report.message.empty()) << report.message;
+    const auto report3d = init::initializeChordal3d(loaded.graph);
+    ASSERT_GT(report.poses + report3d.poses, 0u) << report.message << report3d.message;
   }
   Optimizer optimizer(loaded.graph, solvers, c.options);
   const Summary s = optimizer.optimize();
@@ -100,6 +105,17 @@ std::vector<DatasetCase> cases() {
       {"intel.g2o", 45.004696, 45.00469581, false, gaussNewton()},
       {"city10000.g2o", 511.985164, 511.9851636, false, gaussNewton()},
       {"ais2klinik.g2o", 172.81558, 172.8155793, false, gaussNewton()},
+      // 3D, from the chordal initialisation. torus3d and sphere_bignoise_vertex3 land in
+      // lower minima than g2o's best (19972.23; LM 785282.87). garage: g2o's 1.238684 is
+      // 5e-6 lower than this stationary point of the exact objective (gradient below 1e-7
+      // checked independently); g2o reads VERTEX_SE3:QUAT quaternions without normalising
+      // them, so its rotations carry the file's rounding (see docs/BENCHMARKS.md).
+      {"sphere2500.g2o", 727.149471, 727.1496672, true, defaults()},
+      {"garage.g2o", 1.2386906, 1.23869058, true, defaults()},
+      {"smallgrid3d.g2o", 458.153787, 458.1537843, true, defaults()},
+      {"tinygrid3d.g2o", 6.727882, 6.727881617, true, defaults()},
+      {"torus3d.g2o", 19972.23, 14574.74644, true, defaults()},
+      {"sphere_bignoise_vertex3.g2o", 785282.87, 743862.7209, true, defaults()},
   };
 }
 
@@ -125,6 +141,22 @@ void firstIteration(Dataset& data, Optimizer::Options options, Summary& summary)
 // m3500b from the global initialisation: the first undamped step raises chi2 (7743 ->
 // 36583); the default optimizer then takes a dogleg step from the same factorisation
 // (Options::first_step_dogleg), and that step alone reaches the best known chi2.
+/// A 3D graph written with all digits reads back with the same chi2.
+TEST(Datasets_RoundTrip, ThreeDimensionalFilesReadBackWithTheSameChi2) {
+  for (const char* file : {"sphere2500.g2o", "garage.g2o"}) {
+    Dataset data(file);
+    if (!data.present()) GTEST_SKIP() << data.missing();
+    ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
+    init::initializeChordal3d(data.loaded.graph);
+    const double chi2 = data.loaded.graph.chi2();
+    std::stringstream text;
+    io::writeG2o(text, data.loaded.graph, data.types);
+    auto back = io::readG2o(text, "again", data.types);
+    ASSERT_TRUE(back.ok()) << back.diagnostics.at(0).str();
+    EXPECT_NEAR(back.graph.chi2(), chi2, 1e-12 * chi2) << file;
+  }
+}
+
 TEST(Datasets_FirstStep, M3500bRisingFirstStepBecomesDogleg) {
   for (const bool dogleg : {true, false}) {
     Dataset data("m3500b.g2o");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/information.h"
 #include "graphslam/core/type_registry.h"
 
 namespace graphslam::io {
@@ -32,6 +33,15 @@ struct LoadOptions {
   /// (4 MiB) keeps two threads busy on the benchmark files with a small read-ahead window
   /// (2 chunks per thread); tests set it small to put line ends on chunk boundaries.
   std::size_t chunk_bytes = std::size_t{1} << 22;
+  /// Edges whose information matrix is not positive definite: refused (default; strict
+  /// mode counts every such line to the end of the file, lists the first kListedLines and
+  /// a summary, and fails; lenient mode skips each like any bad line) or repaired
+  /// (repairInformation) and counted in LoadResult::repaired_information.
+  InformationRepair information = InformationRepair::kRefuse;
+  /// kNearestPd's eigenvalue floor, relative to the largest eigenvalue magnitude.
+  double nearest_pd_floor = 1e-6;
+  /// Refused information matrices listed line by line before the summary.
+  static constexpr std::size_t kListedLines = 5;
 };
 
 struct LoadResult {
@@ -45,6 +55,10 @@ struct LoadResult {
   /// in file order for every thread count), so `edge_lines[k]` is the line of
   /// `graph.edges()[k]` as loaded.
   std::vector<std::size_t> edge_lines;
+  /// Edges whose information matrix was not positive definite and was repaired
+  /// (LoadOptions::information), or refused.
+  std::size_t repaired_information = 0;
+  std::size_t refused_information = 0;
   bool failed = false;  ///< strict mode met an error; `graph` holds what was read before it
   [[nodiscard]] bool ok() const { return !failed; }
 };
@@ -53,19 +67,19 @@ struct LoadResult {
 /// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
 /// `TAG ids... parameter-ids... measurement... parameters... information-upper-triangle...`
 /// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
-/// most types have neither), a parameter line `TAG id values...` (Parameter). Checks: unknown tag, wrong
-/// number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex, vertex
-/// of the wrong type, information matrix not positive definite, a parameter the type refuses. Never
-/// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0 and
-/// the system's reason.
+/// most types have neither), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
+/// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex,
+/// vertex of the wrong type, information matrix not positive definite, a parameter the type
+/// refuses. Never throws for bad data; a file that cannot be opened is reported as a diagnostic
+/// with line 0 and the system's reason.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
                                  const LoadOptions& options = {});
 /// Same, from a stream; `name` is used in diagnostics.
 [[nodiscard]] LoadResult readG2o(std::istream& in, const std::string& name,
                                  const TypeRegistry& types, const LoadOptions& options = {});
 
-/// Writes parameters and vertices (by id), `FIX` lines, then edges (in graph order). Numbers are written
-/// with the shortest representation that reads back exactly. Throws graphslam::Error when
+/// Writes parameters and vertices (by id), `FIX` lines, then edges (in graph order). Numbers are
+/// written with the shortest representation that reads back exactly. Throws graphslam::Error when
 /// a vertex or edge type is not registered.
 void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types);
 /// writeG2o to `path`, atomically (temporary file + rename).
