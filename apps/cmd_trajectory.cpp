@@ -464,7 +464,8 @@ int cmdConvert(const std::vector<std::string>& args) {
         "estimates)\n"
         "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
         "pose 0)\n"
-        "  .g2o -> TUM/KITTI: the VERTEX_SE2 estimates as a trajectory (timestamp = id)",
+        "  .g2o -> TUM/KITTI: the VERTEX_SE2 / VERTEX_SE3:QUAT estimates as a trajectory "
+        "(timestamp = id)",
         desc);
     return kExitOk;
   }

@@ -8,6 +8,7 @@
 #include "graphslam/core/error.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam3d/vertex_se3.h"
 
 namespace graphslam::homework {
 
@@ -21,6 +22,8 @@ Trajectory trajectoryFromGraph(const Graph& graph) {
       const SE2& x = pose->estimate();
       out.append(static_cast<double>(id),
                  se2ToIsometry3(x.translation().x(), x.translation().y(), x.angle()));
+    } else if (const auto* pose3 = dynamic_cast<const types_slam3d::VertexSE3*>(v.get())) {
+      out.append(static_cast<double>(id), pose3->estimate().isometry());
     }
   }
   return out;

@@ -8,8 +8,8 @@
 
 namespace graphslam::homework {
 
-/// The VERTEX_SE2 estimates of a graph as a trajectory, in id order, timestamp = id.
-/// Other vertex types are skipped.
+/// The VERTEX_SE2 and VERTEX_SE3:QUAT estimates of a graph as a trajectory, in id order,
+/// timestamp = id. Other vertex types are skipped.
 [[nodiscard]] eval::Trajectory trajectoryFromGraph(const Graph& graph);
 
 /// Options of poseGraphFromRelativePoses.
