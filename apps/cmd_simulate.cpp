@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// graphslam simulate: a seeded Manhattan-world graph and its ground truth.
+// graphslam simulate: a seeded Manhattan-world graph or 3D pose graph and its ground truth.
 #include <unistd.h>
 
 #include <cstdio>
@@ -10,8 +10,10 @@
 #include "cli_common.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/simulation/simulator.h"
+#include "graphslam/simulation/simulator3d.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
+#include "graphslam/types_slam3d/vertex_se3.h"
 
 namespace graphslam::apps {
 
@@ -34,10 +36,47 @@ void checkSimulationSize(const simulation::ManhattanOptions& sim) {
   }
 }
 
+/// The 3D pose graph of --3d SHAPE: written to `output`, its ground truth to `truth`.
+int simulate3d(const std::string& shape, const simulation::ManhattanOptions& sim,
+               const std::string& output, const std::string& truth) {
+  simulation::PoseGraph3dOptions o;
+  if (shape == "sphere") {
+    o.shape = simulation::PoseGraph3dOptions::Shape::kSphere;
+  } else if (shape == "grid") {
+    o.shape = simulation::PoseGraph3dOptions::Shape::kGrid;
+  } else {
+    throw UsageError("--3d must be sphere or grid, not '" + shape + "'");
+  }
+  if (sim.num_landmarks > 0) {
+    throw UsageError("--landmarks: 3D graphs are pose graphs only (points are not simulated yet)");
+  }
+  // About 1.3 kB per pose and 2.5 edges per pose; refused beyond a quarter of a billion.
+  constexpr int kMaxPoses = 250000000;
+  if (sim.num_poses > kMaxPoses) throw UsageError("--poses: at most 250000000 in 3D");
+  o.num_poses = sim.num_poses;
+  o.seed = sim.seed;
+  Registries reg;
+  loadRegistries(reg, {});
+  auto result = simulation::simulatePoseGraph3d(o);
+  io::saveG2o(output, result.graph, reg.types);
+  std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
+            << result.graph.numEdges() << " edges (" << result.num_loop_closures
+            << " loop closures)\n";
+  if (!truth.empty()) {
+    for (int i = 0; i < o.num_poses; ++i) {
+      static_cast<types_slam3d::VertexSE3*>(result.graph.vertex(i))
+          ->setEstimate(result.true_poses[static_cast<std::size_t>(i)]);
+    }
+    io::saveG2o(truth, result.graph, reg.types);
+    std::cout << "wrote " << truth << " (ground truth)\n";
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int cmdSimulate(const std::vector<std::string>& args) {
-  std::string output, truth;
+  std::string output, truth, shape3d;
   simulation::ManhattanOptions sim;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("output,o", po::value(&output),
@@ -47,13 +86,17 @@ int cmdSimulate(const std::vector<std::string>& args) {
       "landmarks", po::value(&sim.num_landmarks)->default_value(0), "number of landmarks")(
       "seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")(
       "world-size", po::value(&sim.world_size)->default_value(0),
-      "side of the square world in grid cells (0: automatic)");
+      "side of the square world in grid cells (0: automatic)")(
+      "3d", po::value(&shape3d),
+      "an SE(3) pose graph instead: sphere (rings of poses, loop closures between rings) or "
+      "grid (a snake through a cubic lattice, loop closures to lattice neighbours)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed "
-        "S]\n"
-        "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks.",
+        "S] [--3d sphere|grid]\n"
+        "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks, or a "
+        "3D pose graph.",
         desc);
     return kExitOk;
   }
@@ -61,10 +104,11 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
   if (sim.num_landmarks < 0) throw UsageError("--landmarks must be at least 0");
   if (sim.world_size < 0) throw UsageError("--world-size must be at least 0 (0: automatic)");
-  checkSimulationSize(sim);
   if (!truth.empty() && truth == output) {
     throw UsageError("--truth and -o name the same file, " + output);
   }
+  if (vm.count("3d")) return simulate3d(shape3d, sim, output, truth);
+  checkSimulationSize(sim);
   Registries reg;
   loadRegistries(reg, {});
   auto result = simulation::simulateManhattan(sim);

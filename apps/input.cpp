@@ -72,7 +72,7 @@ void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
   // and backend (large graphs need nested dissection and a supernodal factorisation).
   const auto init_solver = solvers.create("auto");
   const auto r2 = init::initializeGlobal(graph, init_solver.get());
-  const auto r3 = init::initializeChordal3d(graph);
+  const auto r3 = init::initializeChordal3d(graph, init_solver.get());
   if (r2.poses > 0 || (!r2.message.empty() && r3.poses == 0 && r3.message.empty())) {
     reportInitialization("global", r2);
   }

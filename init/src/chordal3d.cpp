@@ -93,18 +93,44 @@ std::vector<int> freeColumns(const std::vector<char>& anchored, int& count) {
   return col;
 }
 
-/// Solves the SPD system `h` x = `rhs` (several columns); false when it is singular.
-bool solveSpd(const Eigen::SparseMatrix<double>& h, const Eigen::MatrixXd& rhs,
-              Eigen::MatrixXd& x) {
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(h);
-  if (ldlt.info() != Eigen::Success) return false;
-  x = ldlt.solve(rhs);
-  return ldlt.info() == Eigen::Success && x.allFinite();
+/// Solves the SPD system `h` x = `rhs` (several columns), of unknowns in blocks of
+/// `block`, with `solver` (Eigen's simplicial LDL^T when null); false when it is singular.
+bool solveSpd(const Eigen::SparseMatrix<double>& h, const Eigen::MatrixXd& rhs, int block,
+              LinearSolver* solver, Eigen::MatrixXd& x) {
+  if (!solver) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(h);
+    if (ldlt.info() != Eigen::Success) return false;
+    x = ldlt.solve(rhs);
+    return ldlt.info() == Eigen::Success && x.allFinite();
+  }
+  // The solver interface's form: the upper triangle of blocks, each stored block complete
+  // (diagonal blocks full).
+  Eigen::SparseMatrix<double> upper = h;
+  upper.prune([block](Eigen::Index r, Eigen::Index c, double) { return r / block <= c / block; });
+  upper.makeCompressed();
+  const auto n = static_cast<int>(upper.cols());
+  const std::vector<int> col_ptr(upper.outerIndexPtr(), upper.outerIndexPtr() + n + 1);
+  const std::vector<int> rows(upper.innerIndexPtr(), upper.innerIndexPtr() + upper.nonZeros());
+  std::vector<int> block_starts;
+  for (int c = 0; c <= n; c += block) block_starts.push_back(c);
+  SparseStructure st;
+  st.n = n;
+  st.col_ptr = col_ptr.data();
+  st.row_idx = rows.data();
+  st.block_starts = block_starts.data();
+  st.num_blocks = n / block;
+  if (!solver->analyze(st).ok() || !solver->factorize(upper.valuePtr()).ok()) return false;
+  x.resize(n, rhs.cols());
+  for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
+    const Eigen::VectorXd b = rhs.col(c);
+    if (!solver->solve(b.data(), x.col(c).data()).ok()) return false;
+  }
+  return x.allFinite();
 }
 
 /// Step 1: the rotations of the free poses (row k of R_i is unknown x_i^k; R_j = R_i R_ij
 /// is x_j^k = R_ij^T x_i^k for every row k).
-bool solveRotations(const Problem3d& p, const std::vector<int>& col, int free,
+bool solveRotations(const Problem3d& p, const std::vector<int>& col, int free, LinearSolver* solver,
                     std::vector<Eigen::Matrix3d>& rotations) {
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(3 * free, 3);
@@ -133,7 +159,7 @@ bool solveRotations(const Problem3d& p, const std::vector<int>& col, int free,
   Eigen::SparseMatrix<double> h(3 * free, 3 * free);
   h.setFromTriplets(triplets.begin(), triplets.end());
   Eigen::MatrixXd x;
-  if (!solveSpd(h, rhs, x)) return false;
+  if (!solveSpd(h, rhs, 3, solver, x)) return false;
   rotations.resize(static_cast<std::size_t>(free));
   for (int c = 0; c < free; ++c) {
     // Column k of the block holds row k of R: the block is R^T. Nearest rotation by SVD.
@@ -149,7 +175,7 @@ bool solveRotations(const Problem3d& p, const std::vector<int>& col, int free,
 /// Step 2: the translations of the free poses, t_j - t_i = R_i t_ij (a weighted graph
 /// Laplacian with three right-hand sides).
 bool solveTranslations(const Problem3d& p, const std::vector<int>& col, int free,
-                       const std::vector<Eigen::Matrix3d>& rotations,
+                       LinearSolver* solver, const std::vector<Eigen::Matrix3d>& rotations,
                        std::vector<Eigen::Vector3d>& translations) {
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(free, 3);
@@ -181,7 +207,7 @@ bool solveTranslations(const Problem3d& p, const std::vector<int>& col, int free
   Eigen::SparseMatrix<double> h(free, free);
   h.setFromTriplets(triplets.begin(), triplets.end());
   Eigen::MatrixXd x;
-  if (!solveSpd(h, rhs, x)) return false;
+  if (!solveSpd(h, rhs, 1, solver, x)) return false;
   translations.resize(static_cast<std::size_t>(free));
   for (int c = 0; c < free; ++c) translations[static_cast<std::size_t>(c)] = x.row(c).transpose();
   return true;
@@ -190,6 +216,10 @@ bool solveTranslations(const Problem3d& p, const std::vector<int>& col, int free
 }  // namespace
 
 InitializationReport initializeChordal3d(Graph& graph) {
+  return initializeChordal3d(graph, nullptr);
+}
+
+InitializationReport initializeChordal3d(Graph& graph, LinearSolver* solver) {
   const auto start = std::chrono::steady_clock::now();
   InitializationReport report;
   Problem3d p = collect(graph);
@@ -202,8 +232,8 @@ InitializationReport initializeChordal3d(Graph& graph) {
   const std::vector<int> col = freeColumns(anchored, free);
   std::vector<Eigen::Matrix3d> rotations;
   std::vector<Eigen::Vector3d> translations;
-  if (free > 0 && (!solveRotations(p, col, free, rotations) ||
-                   !solveTranslations(p, col, free, rotations, translations))) {
+  if (free > 0 && (!solveRotations(p, col, free, solver, rotations) ||
+                   !solveTranslations(p, col, free, solver, rotations, translations))) {
     report.message = "the chordal system is singular: initial guess kept";
     return report;
   }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
 #include "graphslam/init/initialization.h"
 
 namespace graphslam::init {
@@ -21,5 +22,10 @@ namespace graphslam::init {
 /// are left alone. Works on graphs whose estimates are all identity (edges-only files).
 /// Both systems are solved with Eigen's simplicial LDL^T (AMD ordering).
 InitializationReport initializeChordal3d(Graph& graph);
+
+/// The same, solving both systems with `solver` (from a SolverRegistry; "auto" picks a
+/// nested-dissection ordering and a supernodal factorisation on large graphs). A null
+/// solver means the default.
+InitializationReport initializeChordal3d(Graph& graph, LinearSolver* solver);
 
 }  // namespace graphslam::init
