@@ -22,11 +22,13 @@
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/init/chordal3d.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/register.h"
+#include "graphslam/types_slam3d/register.h"
 
 namespace graphslam::bench {
 
@@ -64,13 +66,14 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The types of types_slam2d and every solver of this build, the solvers sharing one cache
+/// The types of types_slam2d and types_slam3d and every solver of this build, the solvers sharing one cache
 /// of block orderings as the tool's do.
 struct Registries {
   TypeRegistry types;
   SolverRegistry solvers;
   Registries() {
     types_slam2d::registerTypes(types);
+    types_slam3d::registerTypes(types);
     solvers::SolverOptions options;
     options.ordering_cache = std::make_shared<solvers::OrderingCache>();
     solvers::registerSolvers(solvers, options);
@@ -97,8 +100,8 @@ int guardedMain(Body&& body) {
   }
 }
 
-/// Loads `path` strictly with the types of types_slam2d and applies the tool's default
-/// initial guess (init::initializeGlobal). Throws BadInput on a bad file.
+/// Loads `path` strictly and applies the tool's default initial guess
+/// (init::initializeGlobal, init::initializeChordal3d). Throws BadInput on a bad file.
 [[nodiscard]] inline io::LoadResult loadInitialised(const std::string& path,
                                                     const TypeRegistry& types) {
   io::LoadResult r = io::loadG2o(path, types);
@@ -108,6 +111,7 @@ int guardedMain(Body&& body) {
     throw BadInput(msg);
   }
   (void)init::initializeGlobal(r.graph);
+  (void)init::initializeChordal3d(r.graph);
   return r;
 }
 
