@@ -32,6 +32,7 @@
 #include "outlier_options.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "graphslam/chordal/objective.h"
 #include "robust_options.h"
 
 #ifdef __GLIBC__
@@ -56,6 +57,7 @@ constexpr const char* kOptimizeUsage =
     "                          [--robust-kernel NAME[:WIDTH] [--robust-edges "
     "all|loop-closures|TAG]]\n"
     "                          [--reject-outliers [--outliers FILE]]\n"
+    "                          [--objective g2o|chordal] [--information refuse|nearest-pd|isotropic]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
@@ -141,6 +143,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
 /// The options of graphslam optimize.
 struct OptimizeOptions {
   std::string input, output, algorithm, solver, stats_file, plot, npz_model, information;
+  std::string objective = "g2o";
   int iterations = 100;
   std::vector<std::string> plugins;
   std::string damping, first_step, init, marginals_file, marginals_tag;
@@ -169,6 +172,10 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "(none for .npz files, which carry the homework's initial guess; global otherwise)")(
       "npz-model", po::value(&o.npz_model)->default_value("auto"),
       "observations of a .npz file: auto (decided from the file), linear or bearing-range")(
+      "objective", po::value(&o.objective)->default_value("g2o"),
+      "g2o (chi2 of the edges' own errors) or chordal (SE-Sync's problem for pose graphs: "
+      "EDGE_SE2 and EDGE_SE3:QUAT as chordal rotation and translation terms with SE-Sync's "
+      "isotropic weights; the summary's chi2 is then SE-Sync's f)")(
       "information", po::value(&o.information)->default_value("refuse"),
       "information matrices that are not positive definite: refuse (an error listing "
       "them), nearest-pd (eigenvalues raised to 1e-6 of the largest) or isotropic (one "
@@ -240,6 +247,9 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   options.first_step_dogleg =
       parseChoice<bool>("first-step", o.first_step, {{"dogleg", true}, {"gn", false}});
   options.algorithm = parseAlgorithm(o.algorithm);
+  if (o.objective != "g2o" && o.objective != "chordal") {
+    throw UsageError("--objective must be g2o or chordal, not '" + o.objective + "'");
+  }
   options.max_iterations = o.iterations;
   options.linear_solver = o.solver;
   o.quiet = vm.count("quiet") != 0;
@@ -399,8 +409,23 @@ int cmdOptimize(const std::vector<std::string>& args) {
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
   const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
 
+  std::optional<chordal::ChordalObjective> chordal_objective;
+  if (o.objective == "chordal") {
+    chordal_objective.emplace(graph);
+    std::printf("objective: chordal (SE-Sync's), %zu relative-pose edges switched\n",
+                chordal_objective->switched());
+    if (chordal_objective->skipped() > 0) {
+      std::printf("  %zu edges kept in g2o's cost: their information gives no positive weight\n",
+                  chordal_objective->skipped());
+    }
+  }
   std::vector<std::string> csv;
   const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
+  if (chordal_objective) {
+    std::printf("SE-Sync's f: %.10g\n", chordal_objective->value());
+    chordal_objective->restore();
+    std::printf("chi2 in g2o's cost at this estimate: %.10g\n", graph.chi2());
+  }
   if (!in.ground_truth.empty()) {
     const auto final_errors = homework::positionErrors(graph, in.ground_truth);
     std::printf("position error vs ground truth (m), initial -> final:\n");
