@@ -53,19 +53,20 @@ struct LoadResult {
 /// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
 /// `TAG ids... parameter-ids... measurement... parameters... information-upper-triangle...`
 /// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
-/// most types have neither), a parameter line `TAG id values...` (Parameter). Checks: unknown tag, wrong
-/// number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex, vertex
-/// of the wrong type, information matrix not positive definite, a parameter the type refuses. Never
-/// throws for bad data; a file that cannot be opened is reported as a diagnostic with line 0 and
-/// the system's reason.
+/// most types have neither; a type sized by its vertex count ends its ids with `|| count`,
+/// Edge::separatedCount), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
+/// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex,
+/// vertex of the wrong type, information matrix not positive definite, a parameter the type
+/// refuses. Never throws for bad data; a file that cannot be opened is reported as a diagnostic
+/// with line 0 and the system's reason.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
                                  const LoadOptions& options = {});
 /// Same, from a stream; `name` is used in diagnostics.
 [[nodiscard]] LoadResult readG2o(std::istream& in, const std::string& name,
                                  const TypeRegistry& types, const LoadOptions& options = {});
 
-/// Writes parameters and vertices (by id), `FIX` lines, then edges (in graph order). Numbers are written
-/// with the shortest representation that reads back exactly. Throws graphslam::Error when
+/// Writes parameters and vertices (by id), `FIX` lines, then edges (in graph order). Numbers are
+/// written with the shortest representation that reads back exactly. Throws graphslam::Error when
 /// a vertex or edge type is not registered.
 void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types);
 /// writeG2o to `path`, atomically (temporary file + rename).
