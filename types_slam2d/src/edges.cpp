@@ -1,38 +1,23 @@
 // SPDX-License-Identifier: MIT
+// Analytic Jacobians of the slam2d edges (all w.r.t. VertexSE2's and VertexXY's updates).
 #include "graphslam/types_slam2d/edge_pointxy.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
 #include "graphslam/types_slam2d/edge_xy_bearing_range.h"
+#include "se2_jacobians.h"
 
 namespace graphslam::types_slam2d {
 
 void EdgeSE2::linearizeOplus() {
-  const SE2& xi = vertexXi<0>().estimate();
-  const SE2& xj = vertexXi<1>().estimate();
-  const Eigen::Matrix2d rzt = measurement().rotation().transpose();
-  const Eigen::Matrix2d rit = xi.rotation().transpose();
-  const Eigen::Vector2d dt = xj.translation() - xi.translation();
-  auto& ji = jacobian<0>();
-  auto& jj = jacobian<1>();
-  ji.setZero();
-  jj.setZero();
-  ji.topLeftCorner<2, 2>() = -rzt * rit;
-  ji.block<2, 1>(0, 2) = rzt * xi.rotationTransposedDerivative() * dt;
-  ji(2, 2) = -1.0;
-  jj.topLeftCorner<2, 2>() = rzt * rit;
-  jj(2, 2) = 1.0;
+  detail::relativePoseJacobians(measurement(), vertexXi<0>().estimate(), vertexXi<1>().estimate(),
+                                jacobian<0>(), jacobian<1>());
 }
 
 void EdgeSE2XY::linearizeOplus() {
-  const SE2& x = vertexXi<0>().estimate();
-  const Eigen::Vector2d& l = vertexXi<1>().estimate();
-  const Eigen::Matrix2d rt = x.rotation().transpose();
-  auto& jx = jacobian<0>();
-  jx.leftCols<2>() = -rt;
-  jx.col(2) = x.rotationTransposedDerivative() * (l - x.translation());
-  jacobian<1>() = rt;
+  detail::pointInPoseJacobians(vertexXi<0>().estimate(), vertexXi<1>().estimate(), jacobian<0>(),
+                               jacobian<1>());
 }
 
 void EdgePriorSE2::linearizeOplus() {
