@@ -10,12 +10,19 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/types_slam2d/edge_bearing_se2_xy.h"
 #include "graphslam/types_slam2d/edge_pointxy.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_prior_se2_xy.h"
 #include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_offset.h"
+#include "graphslam/types_slam2d/edge_se2_pointxy_offset.h"
+#include "graphslam/types_slam2d/edge_se2_twopointsxy.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam2d/edge_se2_xy_calib.h"
 #include "graphslam/types_slam2d/edge_xy_bearing_range.h"
+#include "graphslam/types_slam2d/parameter_se2_offset.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -58,6 +65,13 @@ inline VertexXY& addPoint(Graph& g, VertexId id, const Eigen::Vector2d& p) {
   v->setId(id);
   v->setEstimate(p);
   return static_cast<VertexXY&>(g.addVertex(std::move(v)));
+}
+/// A PARAMS_SE2OFFSET `id` holding `offset` in `g`.
+inline void addOffset(Graph& g, ParameterId id, const SE2& offset) {
+  auto p = std::make_unique<ParameterSE2Offset>();
+  p->setId(id);
+  p->setValue(offset);
+  g.addParameter(std::move(p));
 }
 /// Adds `e` (vertex and parameter ids set) with `z` and `info` to `g`; the edge, its error
 /// computed.
@@ -175,6 +189,79 @@ template <>
 struct EdgeFactory<EdgePriorXY> {
   static EdgePriorXY* make(Graph& g, std::mt19937& rng) {
     return makePrior<EdgePriorXY>(g, rng, randomPoint);
+  }
+};
+
+/// A random pose 0 and point 1 at least 0.5 apart.
+inline void randomPoseAndPoint(Graph& g, std::mt19937& rng) {
+  const SE2 x = randomPose(rng);
+  Eigen::Vector2d l = randomPoint(rng);
+  while ((l - x.translation()).norm() < 0.5) l = randomPoint(rng);
+  addPose(g, 0, x);
+  addPoint(g, 1, l);
+}
+
+template <>
+struct EdgeFactory<EdgeSE2Offset> {
+  static EdgeSE2Offset* make(Graph& g, std::mt19937& rng) {
+    addPose(g, 0, randomPose(rng));
+    addPose(g, 1, randomPose(rng));
+    addOffset(g, 10, randomPose(rng));
+    addOffset(g, 11, randomPose(rng));
+    auto e = newEdge<EdgeSE2Offset>({0, 1});
+    e->setParameterId(0, 10);
+    e->setParameterId(1, 11);
+    return &addEdge(g, std::move(e), randomPose(rng), randomInformation<3>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeSE2PointXYOffset> {
+  static EdgeSE2PointXYOffset* make(Graph& g, std::mt19937& rng) {
+    randomPoseAndPoint(g, rng);
+    addOffset(g, 10, randomPose(rng));
+    auto e = newEdge<EdgeSE2PointXYOffset>({0, 1});
+    e->setParameterId(0, 10);
+    return &addEdge(g, std::move(e), randomPoint(rng), randomInformation<2>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeBearingSE2XY> {
+  static EdgeBearingSE2XY* make(Graph& g, std::mt19937& rng) {
+    randomPoseAndPoint(g, rng);
+    std::uniform_real_distribution<double> bearing(-kPi, kPi);
+    return &addEdge(g, newEdge<EdgeBearingSE2XY>({0, 1}), bearing(rng), randomInformation<1>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeSE2XYCalib> {
+  static EdgeSE2XYCalib* make(Graph& g, std::mt19937& rng) {
+    randomPoseAndPoint(g, rng);
+    addPose(g, 2, randomPose(rng));
+    return &addEdge(g, newEdge<EdgeSE2XYCalib>({0, 1, 2}), randomPoint(rng),
+                    randomInformation<2>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgePriorSE2XY> {
+  static EdgePriorSE2XY* make(Graph& g, std::mt19937& rng) {
+    addPose(g, 0, randomPose(rng));
+    return &addEdge(g, newEdge<EdgePriorSE2XY>({0}), randomPoint(rng), randomInformation<2>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeSE2TwoPointsXY> {
+  static EdgeSE2TwoPointsXY* make(Graph& g, std::mt19937& rng) {
+    addPose(g, 0, randomPose(rng));
+    addPoint(g, 1, randomPoint(rng));
+    addPoint(g, 2, randomPoint(rng));
+    const Eigen::Vector4d z(randomPoint(rng).x(), randomPoint(rng).y(), randomPoint(rng).x(),
+                            randomPoint(rng).y());
+    return &addEdge(g, newEdge<EdgeSE2TwoPointsXY>({0, 1, 2}), z, randomInformation<4>(rng));
   }
 };
 

@@ -25,8 +25,10 @@ namespace {
 
 template <typename E>
 class TypesSlam2d_Edge : public ::testing::Test {};
-using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY,
-                                   EdgeXYBearingRange, EdgePriorXY>;
+using EdgeTypes =
+    ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY, EdgeXYBearingRange, EdgePriorXY,
+                     EdgeSE2Offset, EdgeSE2PointXYOffset, EdgeBearingSE2XY, EdgeSE2XYCalib,
+                     EdgePriorSE2XY, EdgeSE2TwoPointsXY>;
 TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
@@ -127,8 +129,11 @@ TEST(TypesSlam2d_EdgeXYBearingRange, JacobianIsTheHomeworksHl) {
 TEST(TypesSlam2d_Register, AllTagsRegistered) {
   TypeRegistry types;
   registerTypes(types);
-  for (const char* tag : {"VERTEX_SE2", "VERTEX_XY", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
-                          "EDGE_POINTXY", "EDGE_PRIOR_XY", "EDGE_XY_BEARING_RANGE"}) {
+  for (const char* tag :
+       {"VERTEX_SE2", "VERTEX_XY", "PARAMS_SE2OFFSET", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
+        "EDGE_PRIOR_SE2_XY", "EDGE_SE2_OFFSET", "EDGE_SE2_POINTXY_OFFSET", "EDGE_BEARING_SE2_XY",
+        "EDGE_SE2_XY_CALIB", "EDGE_SE2_TWOPOINTSXY", "EDGE_POINTXY", "EDGE_PRIOR_XY",
+        "EDGE_XY_BEARING_RANGE"}) {
     EXPECT_TRUE(types.contains(tag)) << tag;
   }
   EXPECT_THROW(registerTypes(types), RegistryError);  // duplicates are refused

@@ -25,6 +25,22 @@ inline void pointInPoseJacobians(const SE2& x, const Eigen::Vector2d& l,
   j_l = x.rotation().transpose();
 }
 
+/// d(X O)/d(update of X) for a constant O with translation t_o: X O = (t + R t_o,
+/// theta + theta_o), so [[I, dR/dtheta t_o], [0, 1]].
+[[nodiscard]] inline Eigen::Matrix3d composedPoseJacobian(const SE2& x,
+                                                          const Eigen::Vector2d& t_o) {
+  Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
+  j.block<2, 1>(0, 2) = x.rotation() * Eigen::Vector2d(-t_o.y(), t_o.x());
+  return j;
+}
+
+/// d(X C)/d(update of C) for a constant X: [[R, 0], [0, 1]].
+[[nodiscard]] inline Eigen::Matrix3d composedOffsetJacobian(const SE2& x) {
+  Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
+  j.topLeftCorner<2, 2>() = x.rotation();
+  return j;
+}
+
 /// Jacobians of relativePoseError(z, a, b) w.r.t. the updates of a and b.
 inline void relativePoseJacobians(const SE2& z, const SE2& a, const SE2& b, Eigen::Matrix3d& j_a,
                                   Eigen::Matrix3d& j_b) {
