@@ -16,6 +16,7 @@
 #include "graphslam/types_slam2d/edge_prior_se2_xy.h"
 #include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_lotsofxy.h"
 #include "graphslam/types_slam2d/edge_se2_offset.h"
 #include "graphslam/types_slam2d/edge_se2_pointxy_offset.h"
 #include "graphslam/types_slam2d/edge_se2_twopointsxy.h"
@@ -262,6 +263,24 @@ struct EdgeFactory<EdgeSE2TwoPointsXY> {
     const Eigen::Vector4d z(randomPoint(rng).x(), randomPoint(rng).y(), randomPoint(rng).x(),
                             randomPoint(rng).y());
     return &addEdge(g, newEdge<EdgeSE2TwoPointsXY>({0, 1, 2}), z, randomInformation<4>(rng));
+  }
+};
+
+template <>
+struct EdgeFactory<EdgeSE2LotsOfXY> {
+  /// A pose and 1 to 4 points.
+  static EdgeSE2LotsOfXY* make(Graph& g, std::mt19937& rng) {
+    const int points = std::uniform_int_distribution<int>(1, 4)(rng);
+    addPose(g, 0, randomPose(rng));
+    std::vector<VertexId> ids{0};
+    Eigen::VectorXd z(2 * points);
+    for (int i = 1; i <= points; ++i) {
+      addPoint(g, i, randomPoint(rng));
+      ids.push_back(i);
+      z.segment<2>(2 * (i - 1)) = randomPoint(rng);
+    }
+    return &addEdge(g, newEdge<EdgeSE2LotsOfXY>(ids), z,
+                    randomInformation<Eigen::Dynamic>(rng, 2 * points));
   }
 };
 

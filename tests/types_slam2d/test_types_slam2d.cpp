@@ -28,7 +28,7 @@ class TypesSlam2d_Edge : public ::testing::Test {};
 using EdgeTypes =
     ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY, EdgeXYBearingRange, EdgePriorXY,
                      EdgeSE2Offset, EdgeSE2PointXYOffset, EdgeBearingSE2XY, EdgeSE2XYCalib,
-                     EdgePriorSE2XY, EdgeSE2TwoPointsXY>;
+                     EdgePriorSE2XY, EdgeSE2TwoPointsXY, EdgeSE2LotsOfXY>;
 TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
@@ -132,8 +132,8 @@ TEST(TypesSlam2d_Register, AllTagsRegistered) {
   for (const char* tag :
        {"VERTEX_SE2", "VERTEX_XY", "PARAMS_SE2OFFSET", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
         "EDGE_PRIOR_SE2_XY", "EDGE_SE2_OFFSET", "EDGE_SE2_POINTXY_OFFSET", "EDGE_BEARING_SE2_XY",
-        "EDGE_SE2_XY_CALIB", "EDGE_SE2_TWOPOINTSXY", "EDGE_POINTXY", "EDGE_PRIOR_XY",
-        "EDGE_XY_BEARING_RANGE"}) {
+        "EDGE_SE2_XY_CALIB", "EDGE_SE2_TWOPOINTSXY", "EDGE_SE2_LOTSOFXY", "EDGE_POINTXY",
+        "EDGE_PRIOR_XY", "EDGE_XY_BEARING_RANGE"}) {
     EXPECT_TRUE(types.contains(tag)) << tag;
   }
   EXPECT_THROW(registerTypes(types), RegistryError);  // duplicates are refused

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // g2o's slam2d tags beyond the basic pose and point ones: hand-computed errors, the `.g2o`
-// layout of shared offset parameters and an optimisation with offset and bearing-only
-// observations.
+// layouts (shared offset parameters, the "||" line of EDGE_SE2_LOTSOFXY) and an
+// optimisation with offset and bearing-only observations.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,6 +142,61 @@ TEST(TypesSlam2d_EdgeSE2TwoPointsXY, ErrorStacksBothPointsInThePoseFrame) {
   auto& edge = addEdge(g, newEdge<EdgeSE2TwoPointsXY>({0, 1, 2}), {2, 0.5, 0, 0},
                        identity<EdgeSE2TwoPointsXY>());
   EXPECT_TRUE(edge.error().isApprox(Eigen::Vector4d(0, -0.5, 0, 1), 1e-15)) << edge.error();
+}
+
+TEST(TypesSlam2d_EdgeSE2LotsOfXY, ErrorStacksEveryPointInThePoseFrame) {
+  Graph g;
+  addTwoOrThreePoints(g, true);
+  auto e = newEdge<EdgeSE2LotsOfXY>({0, 1, 2, 3});
+  EXPECT_EQ(e->dimension(), 6);
+  EXPECT_EQ(e->measurement().size(), 6);
+  Eigen::VectorXd z(6);
+  z << 2, 0, 0, 1, 1, 0;
+  auto& edge = addEdge(g, std::move(e), z, Eigen::MatrixXd::Identity(6, 6));
+  Eigen::VectorXd expected(6);
+  expected << 0, 0, 0, 0, -1, 0;
+  EXPECT_TRUE(edge.error().isApprox(expected, 1e-15)) << edge.error();
+  EXPECT_THROW(EdgeSE2LotsOfXY().setVertexIds({0}), Error);  // a pose without points
+}
+
+TEST(TypesSlam2d_EdgeSE2LotsOfXY, LineCarriesThePointCountAfterTheIds) {
+  // g2o's line: the vertex ids, "||", the number of points, the 2n measurement values and
+  // the upper triangle of the 2n x 2n information.
+  const TypeRegistry types = slam2dTypes();
+  const std::string edge_line = "EDGE_SE2_LOTSOFXY 0 1 2 || 2 2 0 0 1 1 0 0 0 1 0 0 1 0 1\n";
+  const std::string text =
+      "VERTEX_SE2 0 1 1 1.5707963267948966\nVERTEX_XY 1 1 3\nVERTEX_XY 2 0 1\n" + edge_line;
+  auto res = readText(text, types);
+  ASSERT_TRUE(res.ok()) << res.diagnostics[0].str();
+  const Edge& e = *res.graph.edges()[0];
+  EXPECT_EQ(e.numVertices(), 3u);
+  EXPECT_EQ(e.dimension(), 4);
+  EXPECT_NEAR(res.graph.chi2(), 0.0, 1e-28);
+  EXPECT_EQ(writeText(res.graph, types), text);
+
+  const std::pair<std::string, std::string> bad[] = {
+      {"EDGE_SE2_LOTSOFXY 0 1 2 || 3 2 0 0 1 1 0 0 0 1 0 0 1 0 1\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY: the count '3' after '||' does not match its 3 vertex ids (2 "
+       "expected)"},
+      {"EDGE_SE2_LOTSOFXY 0 1 2 2 2 0 0 1 1 0 0 0 1 0 0 1 0 1\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY expects its vertex ids to be followed by '||' and a count"},
+      {"EDGE_SE2_LOTSOFXY 0 1 2 || 2 2 0 0 1 1 0 0 0 1 0 0 1 0\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY expects 19 numbers after the tag, found 18"},
+      {"EDGE_SE2_LOTSOFXY || 0\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY expects its vertex ids to be followed by '||' and a count"},
+      {"EDGE_SE2_LOTSOFXY 0 || 0\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY: EdgeSE2LotsOfXY takes a pose and at least one point, 1 "
+       "vertices given"},
+      {"EDGE_SE2_LOTSOFXY 1 0 2 || 2 2 0 0 1 1 0 0 0 1 0 0 1 0 1\n",
+       "f.g2o:4: EDGE_SE2_LOTSOFXY: vertex 1 has the wrong type for slot 0: it is a VERTEX_XY, "
+       "the slot takes VERTEX_SE2"},
+  };
+  const std::string vertices = text.substr(0, text.size() - edge_line.size());
+  for (const auto& [line, expected] : bad) {
+    auto r = readText(vertices + line, types);
+    ASSERT_FALSE(r.ok()) << line;
+    EXPECT_NE(r.diagnostics[0].str().find(expected), std::string::npos) << r.diagnostics[0].str();
+  }
 }
 
 TEST(TypesSlam2d_ParameterSE2Offset, FileWithOffsetsRoundTrips) {

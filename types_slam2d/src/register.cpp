@@ -7,6 +7,7 @@
 #include "graphslam/types_slam2d/edge_prior_se2_xy.h"
 #include "graphslam/types_slam2d/edge_prior_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/edge_se2_lotsofxy.h"
 #include "graphslam/types_slam2d/edge_se2_offset.h"
 #include "graphslam/types_slam2d/edge_se2_pointxy_offset.h"
 #include "graphslam/types_slam2d/edge_se2_twopointsxy.h"
@@ -32,6 +33,7 @@ void registerTypes(TypeRegistry& registry) {
   registry.registerEdge<EdgeBearingSE2XY>("EDGE_BEARING_SE2_XY");
   registry.registerEdge<EdgeSE2XYCalib>("EDGE_SE2_XY_CALIB");
   registry.registerEdge<EdgeSE2TwoPointsXY>("EDGE_SE2_TWOPOINTSXY");
+  registry.registerEdge<EdgeSE2LotsOfXY>("EDGE_SE2_LOTSOFXY");
   registry.registerEdge<EdgePointXY>("EDGE_POINTXY");
   registry.registerEdge<EdgePriorXY>("EDGE_PRIOR_XY");
   registry.registerEdge<EdgeXYBearingRange>("EDGE_XY_BEARING_RANGE");
