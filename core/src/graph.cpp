@@ -30,8 +30,16 @@ void Edge::setVertexIds(std::vector<VertexId> ids) {
                 std::to_string(ids.size()) + " given");
   }
   if (in_graph_) throw Error("vertex ids of an edge cannot change once it is in a graph");
-  if (ids.size() != num_vertices_) resizeVertices(ids.size());
+  if (ids.size() != num_vertices_) {
+    resizeForVertices(ids.size());
+    resizeVertices(ids.size());
+  }
   std::copy(ids.begin(), ids.end(), this->ids());
+}
+
+void Edge::setDimension(int dimension) {
+  if (in_graph_) throw Error("the dimension of an edge cannot change once it is in a graph");
+  dimension_ = dimension;
 }
 
 void Edge::setVertexId(std::size_t slot, VertexId id) {

@@ -221,7 +221,19 @@ class LineParser {
       out.tag = &entry->tag;
       return;
     }
-    auto e = entry->make_edge();
+    parseEdge(tokens, *entry, out);
+  }
+
+  /// An edge line: `TAG id... [|| count] parameter-id... measurement... information...`
+  /// (the count only in g2o's separated layout, Edge::separatedCount).
+  void parseEdge(const std::vector<std::string_view>& tokens, const TypeRegistry::Entry& entry,
+                 ParsedLine& out) {
+    const std::string& tag = entry.tag;
+    auto e = entry.make_edge();
+    const std::size_t found = tokens.size() - 1;
+    // In the separated layout the ids come first: they size the edge.
+    const bool separated = e->arity() < 0 && e->separatedCount(0) >= 0;
+    const std::size_t first = separated ? readSeparatedIds(tokens, tag, *e) : 1;
     const int d = e->dimension();
     const std::size_t meas = static_cast<std::size_t>(e->measurementDataDimension()) +
                              static_cast<std::size_t>(e->parameterDataDimension());
@@ -230,7 +242,9 @@ class LineParser {
     const std::size_t num_params = static_cast<std::size_t>(e->numParameters());
     const std::size_t rest = num_params + meas + info;
     std::size_t num_ids = 0;
-    if (e->arity() > 0) {
+    if (separated) {
+      if (found != first - 1 + rest) throw LineError{countMessage(tag, first - 1 + rest, found)};
+    } else if (e->arity() > 0) {
       num_ids = static_cast<std::size_t>(e->arity());
       if (found != num_ids + rest) throw LineError{countMessage(tag, num_ids + rest, found)};
     } else {
@@ -244,14 +258,14 @@ class LineParser {
       }
       num_ids = found - rest;
     }
-    std::vector<VertexId> ids(num_ids);  // moved into the edge
-    for (std::size_t i = 0; i < num_ids; ++i) ids[i] = parseId(tokens[1 + i], 1 + i, tag);
+    if (!separated) setVertexIds(*e, tokens, num_ids, tag);
+    const std::size_t first_param = separated ? first : 1 + num_ids;
     for (std::size_t i = 0; i < num_params; ++i) {
-      const std::size_t at = 1 + num_ids + i;
+      const std::size_t at = first_param + i;
       e->setParameterId(i, parseId(tokens[at], at, tag, "parameter id"));
     }
     values_.resize(meas + info);
-    const std::size_t first_value = 1 + num_ids + num_params;
+    const std::size_t first_value = first_param + num_params;
     for (std::size_t i = 0; i < meas + info; ++i) {
       values_[i] = parseDouble(tokens[first_value + i], first_value + i, tag);
     }
@@ -267,7 +281,6 @@ class LineParser {
     }
     // Checked after the edge's vertices are known to be defined (at commit), in this
     // order: the information matrix, then the parameters.
-    e->setVertexIds(std::move(ids));
     if (llt_.compute(omega).info() != Eigen::Success) {
       out.repaired = repairInformation(omega, options_.information, options_.nearest_pd_floor) &&
                      llt_.compute(omega).info() == Eigen::Success;
@@ -282,7 +295,39 @@ class LineParser {
       e->setInformationData(omega.data());
     }
     out.edge = std::move(e);
-    out.tag = &entry->tag;
+    out.tag = &entry.tag;
+  }
+
+  /// The vertex ids of a line in g2o's separated layout (Edge::separatedCount): the tokens
+  /// before "||", set on `e` (which sizes it), and the count after it, checked. Returns the
+  /// index of the token after the count.
+  static std::size_t readSeparatedIds(const std::vector<std::string_view>& tokens,
+                                      const std::string& tag, Edge& e) {
+    std::size_t sep = 1;
+    while (sep < tokens.size() && tokens[sep] != "||") ++sep;
+    if (sep == 1 || sep + 1 >= tokens.size()) {
+      throw LineError{tag + " expects its vertex ids to be followed by '||' and a count"};
+    }
+    setVertexIds(e, tokens, sep - 1, tag);
+    const int expected = e.separatedCount(sep - 1);
+    if (parseId(tokens[sep + 1], sep + 1, tag, "count") != expected) {
+      throw LineError{tag + ": the count " + quote(tokens[sep + 1]) + " after '||' does not " +
+                      "match its " + std::to_string(sep - 1) + " vertex ids (" +
+                      std::to_string(expected) + " expected)"};
+    }
+    return sep + 2;
+  }
+
+  /// Sets the `count` ids after the tag on `e`; a count the type refuses is a bad line.
+  static void setVertexIds(Edge& e, const std::vector<std::string_view>& tokens, std::size_t count,
+                           const std::string& tag) {
+    std::vector<VertexId> ids(count);  // moved into the edge
+    for (std::size_t i = 0; i < count; ++i) ids[i] = parseId(tokens[1 + i], 1 + i, tag);
+    try {
+      e.setVertexIds(std::move(ids));
+    } catch (const Error& err) {
+      throw LineError{tag + ": " + err.what()};
+    }
   }
 
   /// Runs `set` (a setParameterData call); the message when the type refuses the value,

@@ -108,6 +108,10 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
                   ": its type is not registered");
     line += *tag;
     for (VertexId id : e.vertexIds()) appendId(line, id);
+    if (const int count = e.separatedCount(e.numVertices()); count >= 0) {
+      line += " ||";
+      appendId(line, count);
+    }
     for (int k = 0; k < e.numParameters(); ++k)
       appendId(line, e.parameterId(static_cast<std::size_t>(k)));
     data.resize(static_cast<std::size_t>(e.measurementDataDimension()));

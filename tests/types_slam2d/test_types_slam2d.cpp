@@ -7,171 +7,28 @@
 
 #include "../common/edge_type_checks.h"
 #include "../common/se2_graphs.h"
+#include "edge_factories.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/linear_solver.h"
-#include "graphslam/solvers/register.h"
-#include "graphslam/types_slam2d/edge_pointxy.h"
-#include "graphslam/types_slam2d/edge_prior_se2.h"
-#include "graphslam/types_slam2d/edge_prior_xy.h"
-#include "graphslam/types_slam2d/edge_se2.h"
-#include "graphslam/types_slam2d/edge_se2_xy.h"
-#include "graphslam/types_slam2d/edge_xy_bearing_range.h"
-#include "graphslam/types_slam2d/register.h"
-#include "graphslam/types_slam2d/vertex_se2.h"
-#include "graphslam/types_slam2d/vertex_xy.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/simulation/simulator.h"
+#include "graphslam/solvers/register.h"
+#include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
 using namespace graphslam::init;
 using namespace graphslam::simulation;
+using namespace slam2d_test;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-SE2 randomPose(std::mt19937& rng) {
-  std::uniform_real_distribution<double> t(-10, 10), a(-kPi, kPi);
-  return SE2(t(rng), t(rng), a(rng));
-}
-Eigen::Vector2d randomPoint(std::mt19937& rng) {
-  std::uniform_real_distribution<double> t(-10, 10);
-  return {t(rng), t(rng)};
-}
-template <int D>
-Eigen::Matrix<double, D, D> randomInformation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  Eigen::Matrix<double, D, D> a;
-  for (int i = 0; i < D * D; ++i) a.data()[i] = u(rng);
-  const Eigen::Matrix<double, D, D> m = a * a.transpose() + Eigen::Matrix<double, D, D>::Identity();
-  return 0.5 * (m + m.transpose());  // exactly symmetric, as a file's upper triangle gives
-}
-
-/// Builds a random graph holding one edge of type E and its vertices.
-template <typename E>
-struct EdgeFactory;
-
-template <>
-struct EdgeFactory<EdgeSE2> {
-  static EdgeSE2* make(Graph& g, std::mt19937& rng) {
-    auto a = std::make_unique<VertexSE2>();
-    a->setId(0);
-    a->setEstimate(randomPose(rng));
-    auto b = std::make_unique<VertexSE2>();
-    b->setId(1);
-    b->setEstimate(randomPose(rng));
-    g.addVertex(std::move(a));
-    g.addVertex(std::move(b));
-    auto e = std::make_unique<EdgeSE2>();
-    e->setVertexIds({0, 1});
-    e->setMeasurement(randomPose(rng));
-    e->setInformation(randomInformation<3>(rng));
-    return static_cast<EdgeSE2*>(&g.addEdge(std::move(e)));
-  }
-};
-
-template <>
-struct EdgeFactory<EdgeSE2XY> {
-  static EdgeSE2XY* make(Graph& g, std::mt19937& rng) {
-    auto a = std::make_unique<VertexSE2>();
-    a->setId(0);
-    a->setEstimate(randomPose(rng));
-    auto b = std::make_unique<VertexXY>();
-    b->setId(1);
-    b->setEstimate(randomPoint(rng));
-    g.addVertex(std::move(a));
-    g.addVertex(std::move(b));
-    auto e = std::make_unique<EdgeSE2XY>();
-    e->setVertexIds({0, 1});
-    e->setMeasurement(randomPoint(rng));
-    e->setInformation(randomInformation<2>(rng));
-    return static_cast<EdgeSE2XY*>(&g.addEdge(std::move(e)));
-  }
-};
-
-/// A prior E on one vertex (id 0) at a random estimate, with a random measurement.
-template <typename E, typename Random>
-E* makePrior(Graph& g, std::mt19937& rng, Random random) {
-  auto a = std::make_unique<typename E::template VertexXi<0>>();
-  a->setId(0);
-  a->setEstimate(random(rng));
-  g.addVertex(std::move(a));
-  auto e = std::make_unique<E>();
-  e->setVertexIds({0});
-  e->setMeasurement(random(rng));
-  e->setInformation(randomInformation<E::kDimension>(rng));
-  return static_cast<E*>(&g.addEdge(std::move(e)));
-}
-
-template <>
-struct EdgeFactory<EdgePriorSE2> {
-  static EdgePriorSE2* make(Graph& g, std::mt19937& rng) {
-    return makePrior<EdgePriorSE2>(g, rng, randomPose);
-  }
-};
-
-/// Two VertexXY at `r` (id 0) and `l` (id 1) and an edge E from r to l.
-template <typename E>
-E& pointEdge(Graph& g, const Eigen::Vector2d& r, const Eigen::Vector2d& l,
-             const Eigen::Vector2d& z) {
-  for (const auto& [id, p] : {std::pair{0, r}, std::pair{1, l}}) {
-    auto v = std::make_unique<VertexXY>();
-    v->setId(id);
-    v->setEstimate(p);
-    g.addVertex(std::move(v));
-  }
-  auto e = std::make_unique<E>();
-  e->setVertexIds({0, 1});
-  e->setMeasurement(z);
-  auto& edge = static_cast<E&>(g.addEdge(std::move(e)));
-  edge.computeError();
-  return edge;
-}
-
-/// Two random VertexXY at least 0.5 apart, and edge E between them.
-template <typename E>
-E* makePointPair(Graph& g, std::mt19937& rng, const Eigen::Vector2d& measurement) {
-  Eigen::Vector2d pa = randomPoint(rng), pb = randomPoint(rng);
-  while ((pb - pa).norm() < 0.5) pb = randomPoint(rng);
-  E& e = pointEdge<E>(g, pa, pb, measurement);
-  e.setInformation(randomInformation<2>(rng));
-  return &e;
-}
-
-template <>
-struct EdgeFactory<EdgePointXY> {
-  static EdgePointXY* make(Graph& g, std::mt19937& rng) {
-    return makePointPair<EdgePointXY>(g, rng, randomPoint(rng));
-  }
-};
-
-template <>
-struct EdgeFactory<EdgeXYBearingRange> {
-  static EdgeXYBearingRange* make(Graph& g, std::mt19937& rng) {
-    // Bearings as in the homework's data: near the true one, not wrapped (k * 2 pi added).
-    std::uniform_real_distribution<double> noise(-0.3, 0.3);
-    std::uniform_int_distribution<int> turns(-1, 1);
-    EdgeXYBearingRange* e = makePointPair<EdgeXYBearingRange>(g, rng, Eigen::Vector2d::Zero());
-    const Eigen::Vector2d d = static_cast<const VertexXY*>(g.vertex(1))->estimate() -
-                              static_cast<const VertexXY*>(g.vertex(0))->estimate();
-    e->setMeasurement(Eigen::Vector2d(std::atan2(d.y(), d.x()) + noise(rng) + 2 * kPi * turns(rng),
-                                      d.norm() + noise(rng)));
-    return e;
-  }
-};
-
-template <>
-struct EdgeFactory<EdgePriorXY> {
-  static EdgePriorXY* make(Graph& g, std::mt19937& rng) {
-    return makePrior<EdgePriorXY>(g, rng, randomPoint);
-  }
-};
-
 template <typename E>
 class TypesSlam2d_Edge : public ::testing::Test {};
-using EdgeTypes = ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY,
-                                   EdgeXYBearingRange, EdgePriorXY>;
+using EdgeTypes =
+    ::testing::Types<EdgeSE2, EdgeSE2XY, EdgePriorSE2, EdgePointXY, EdgeXYBearingRange, EdgePriorXY,
+                     EdgeSE2Offset, EdgeSE2PointXYOffset, EdgeBearingSE2XY, EdgeSE2XYCalib,
+                     EdgePriorSE2XY, EdgeSE2TwoPointsXY, EdgeSE2LotsOfXY>;
 TYPED_TEST_SUITE(TypesSlam2d_Edge, EdgeTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(TypesSlam2d_Edge, AnalyticJacobianMatchesNumeric) {
@@ -272,15 +129,17 @@ TEST(TypesSlam2d_EdgeXYBearingRange, JacobianIsTheHomeworksHl) {
 TEST(TypesSlam2d_Register, AllTagsRegistered) {
   TypeRegistry types;
   registerTypes(types);
-  for (const char* tag : {"VERTEX_SE2", "VERTEX_XY", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
-                          "EDGE_POINTXY", "EDGE_PRIOR_XY", "EDGE_XY_BEARING_RANGE"}) {
+  for (const char* tag :
+       {"VERTEX_SE2", "VERTEX_XY", "PARAMS_SE2OFFSET", "EDGE_SE2", "EDGE_SE2_XY", "EDGE_PRIOR_SE2",
+        "EDGE_PRIOR_SE2_XY", "EDGE_SE2_OFFSET", "EDGE_SE2_POINTXY_OFFSET", "EDGE_BEARING_SE2_XY",
+        "EDGE_SE2_XY_CALIB", "EDGE_SE2_TWOPOINTSXY", "EDGE_SE2_LOTSOFXY", "EDGE_POINTXY",
+        "EDGE_PRIOR_XY", "EDGE_XY_BEARING_RANGE"}) {
     EXPECT_TRUE(types.contains(tag)) << tag;
   }
   EXPECT_THROW(registerTypes(types), RegistryError);  // duplicates are refused
 }
 
 }  // namespace
-
 
 namespace {
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <type_traits>
 #include <vector>
 
 #include "graphslam/core/data_traits.h"
@@ -10,25 +11,29 @@
 
 namespace graphslam {
 
-/// Edge of fixed error dimension `D` on any number of vertices of any types, chosen per
-/// instance with `setVertexIds()` (g2o's BaseMultiEdge). The type overrides
-/// `computeError()` (writing `mutableError()`); Jacobians are dynamic-size
-/// (`D x vertex(i)->dimension()`), numeric by default (vertices are perturbed in place,
-/// so linearisation of these edges is serial). Override `linearizeOplus()` and fill
-/// `jacobian(i)` for analytic ones.
+/// Edge on any number of vertices of any types, chosen per instance with `setVertexIds()`
+/// (g2o's BaseMultiEdge). The type overrides `computeError()` (writing `mutableError()`);
+/// Jacobians are dynamic-size (`dimension() x vertex(i)->dimension()`), numeric by default
+/// (vertices are perturbed in place, so linearisation of these edges is serial). Override
+/// `linearizeOplus()` and fill `jacobian(i)` for analytic ones.
+///
+/// The error dimension is `D`, or, with `D = Eigen::Dynamic`, chosen per instance: such a
+/// type overrides `resizeForVertices(n)` and calls `setErrorDimension()` there (g2o's
+/// EDGE_SE2_LOTSOFXY: 2 per observed point). A measurement of type `Eigen::VectorXd` is
+/// sized by the type as well; its flat data are its current size.
 template <int D, typename MeasurementT>
 class BaseMultiEdge : public Edge {
  public:
-  static_assert(D > 0, "error dimension must be positive");
+  static_assert(D > 0 || D == Eigen::Dynamic, "error dimension must be positive or Dynamic");
   static constexpr int kDimension = D;
   using Measurement = MeasurementT;
   using ErrorVector = Eigen::Matrix<double, D, 1>;
   using InformationMatrix = Eigen::Matrix<double, D, D>;
   using JacobianType = Eigen::Matrix<double, D, Eigen::Dynamic>;
 
-  BaseMultiEdge() : Edge(D, -1) {
-    error_.setZero();
-    information_.setIdentity();
+  BaseMultiEdge() : Edge(D > 0 ? D : 0, -1) {
+    error_.setZero(dimension());
+    information_.setIdentity(dimension(), dimension());
   }
 
   [[nodiscard]] const Measurement& measurement() const { return measurement_; }
@@ -37,7 +42,7 @@ class BaseMultiEdge : public Edge {
   void setInformation(const InformationMatrix& info) { information_ = info; }
   [[nodiscard]] const ErrorVector& error() const { return error_; }
 
-  /// Jacobian of slot i, sized D x vertex(i)->dimension() on first use.
+  /// Jacobian of slot i, sized dimension() x vertex(i)->dimension() on first use.
   [[nodiscard]] JacobianType& jacobian(std::size_t i) {
     ensureJacobians();
     return jacobians_[i];
@@ -46,6 +51,12 @@ class BaseMultiEdge : public Edge {
 
   void linearizeOplus() override {
     in_place_ = true;
+    numericJacobians();
+  }
+
+  /// Central differences of the error for every non-fixed vertex (what linearizeOplus()
+  /// does by default), perturbing the vertices in place.
+  void numericJacobians() {
     ensureJacobians();
     const ErrorVector saved = error_;
     for (std::size_t i = 0; i < numVertices(); ++i) {
@@ -99,28 +110,53 @@ class BaseMultiEdge : public Edge {
   }
 
   [[nodiscard]] int measurementDataDimension() const override {
-    return DataTraits<Measurement>::kDimension;
+    if constexpr (kDynamicMeasurement) {
+      return static_cast<int>(measurement_.size());
+    } else {
+      return DataTraits<Measurement>::kDimension;
+    }
   }
   void getMeasurementData(double* data) const override {
-    DataTraits<Measurement>::toData(measurement_, data);
+    if constexpr (kDynamicMeasurement) {
+      Eigen::Map<Eigen::VectorXd>(data, measurement_.size()) = measurement_;
+    } else {
+      DataTraits<Measurement>::toData(measurement_, data);
+    }
   }
   void setMeasurementData(const double* data) override {
-    measurement_ = DataTraits<Measurement>::fromData(data);
+    if constexpr (kDynamicMeasurement) {
+      measurement_ = Eigen::Map<const Eigen::VectorXd>(data, measurement_.size());
+    } else {
+      measurement_ = DataTraits<Measurement>::fromData(data);
+    }
   }
   [[nodiscard]] const double* informationData() const override { return information_.data(); }
   void setInformationData(const double* data) override {
-    information_ = Eigen::Map<const InformationMatrix>(data);
+    information_ = Eigen::Map<const InformationMatrix>(data, dimension(), dimension());
   }
 
  protected:
+  static constexpr bool kDynamicMeasurement = std::is_same_v<Measurement, Eigen::VectorXd>;
+
   ErrorVector& mutableError() { return error_; }
+  Measurement& mutableMeasurement() { return measurement_; }
+
+  /// With D = Eigen::Dynamic: sets the error dimension to `d` (only before the edge is in a
+  /// graph); the error becomes zero, the information the identity.
+  void setErrorDimension(int d) {
+    static_assert(D == Eigen::Dynamic, "the error dimension of this type is fixed");
+    setDimension(d);
+    error_.setZero(d);
+    information_.setIdentity(d, d);
+    jacobians_.clear();
+  }
 
  private:
   void ensureJacobians() {
     if (jacobians_.size() == numVertices()) return;
     jacobians_.resize(numVertices());
     for (std::size_t i = 0; i < numVertices(); ++i) {
-      jacobians_[i] = JacobianType::Zero(D, vertex(i) ? vertex(i)->dimension() : 0);
+      jacobians_[i] = JacobianType::Zero(dimension(), vertex(i) ? vertex(i)->dimension() : 0);
     }
   }
 

@@ -84,10 +84,19 @@ class Edge {
   [[nodiscard]] VertexIdView vertexIds() const { return {ids(), num_vertices_}; }
   /// Throws std::out_of_range for a slot the edge does not have.
   [[nodiscard]] VertexId vertexId(std::size_t slot) const;
-  /// Before the edge is added to a graph. Throws graphslam::Error on a wrong count.
+  /// Before the edge is added to a graph. Throws graphslam::Error on a wrong count (or one
+  /// the type refuses in resizeForVertices).
   void setVertexIds(std::vector<VertexId> ids);
   void setVertexId(std::size_t slot, VertexId id);
 
+  /// g2o's line layout for the edges whose sizes follow their number of vertices
+  /// (EDGE_SE2_LOTSOFXY, EDGE_SE3_LOTSOFXYZ): `TAG id... || count parameter-id...
+  /// measurement... information...`, the vertex ids ended by the token "||" and followed by
+  /// the count this returns for `num_vertices` vertices (for those two, the number of
+  /// observed points, num_vertices - 1). A type with this layout returns a count >= 0 for
+  /// every number of vertices, 0 included; -1 (the default) means the plain layout,
+  /// `TAG id... parameter-id... measurement... information...`.
+  [[nodiscard]] virtual int separatedCount(std::size_t /*num_vertices*/) const { return -1; }
   /// Number of parameters (shared constants such as a sensor offset, see Parameter) the
   /// type refers to by id; in a `.g2o` line their ids follow the vertex ids. Default: none
   /// (`ParameterizedEdge` adds them).
@@ -190,6 +199,14 @@ class Edge {
     return const_cast<Edge*>(this)->parameterSlots();
   }
 
+  /// Called by setVertexIds with the new number of vertices: a dynamic-arity type whose
+  /// error dimension follows it (g2o's EDGE_SE2_LOTSOFXY) resizes its error, measurement and
+  /// information here (setDimension), and may throw graphslam::Error for a count it cannot
+  /// take. Default: nothing (the dimension is the type's).
+  virtual void resizeForVertices(std::size_t /*num_vertices*/) {}
+  /// Sets the error dimension of a type whose dimension is chosen per instance; only before
+  /// the edge is in a graph (throws graphslam::Error after).
+  void setDimension(int dimension);
   /// Writable access to the vertex in `slot` (nullptr before insertion into a graph), for
   /// methods that initialise a vertex from the measurement (odometry chaining, landmark
   /// initialisation). Never use it in computeError() or linearizeOplus().

@@ -67,7 +67,8 @@ struct LoadResult {
 /// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
 /// `TAG ids... parameter-ids... measurement... parameters... information-upper-triangle...`
 /// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
-/// most types have neither), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
+/// most types have neither; a type sized by its vertex count ends its ids with `|| count`,
+/// Edge::separatedCount), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
 /// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex,
 /// vertex of the wrong type, information matrix not positive definite, a parameter the type
 /// refuses. Never throws for bad data; a file that cannot be opened is reported as a diagnostic

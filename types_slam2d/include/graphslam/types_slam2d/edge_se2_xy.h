@@ -15,7 +15,7 @@ class EdgeSE2XY final : public BaseBinaryEdge<2, Eigen::Vector2d, VertexSE2, Ver
  public:
   EdgeSE2XY() { setMeasurement(Eigen::Vector2d::Zero()); }
   [[nodiscard]] ErrorVector evaluate(const SE2& x, const Eigen::Vector2d& l) const override {
-    return x.rotation().transpose() * (l - x.translation()) - measurement();
+    return x.inverseTimes(l) - measurement();
   }
   void linearizeOplus() override;
 };

@@ -60,6 +60,10 @@ class SE2 {
   [[nodiscard]] Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
     return t_ + rotation() * p;
   }
+  /// this^-1 * p = R^T (p - t): a point of the outer frame in this frame.
+  [[nodiscard]] Eigen::Vector2d inverseTimes(const Eigen::Vector2d& p) const {
+    return rotation().transpose() * (p - t_);
+  }
   [[nodiscard]] SE2 inverse() const {
     const Eigen::Matrix2d rt = rotation().transpose();
     return SE2(-(rt * t_), -theta_);
