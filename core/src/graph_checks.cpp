@@ -50,20 +50,62 @@ std::string ConstraintReport::describe(std::size_t max_ids) const {
   return out;
 }
 
+namespace {
+
+/// Index of each listed vertex id: a table over the graph's id range when that is at most
+/// kDenseFactor times the number of vertices (the ids of real files are nearly contiguous;
+/// a million look-ups in a hash map took about half the check's time), else a hash map.
+class IdIndex {
+ public:
+  static constexpr std::size_t kDenseFactor = 4;
+
+  explicit IdIndex(const Graph& graph) {
+    if (graph.numVertices() == 0) return;
+    first_ = graph.vertices().begin()->first;
+    const auto range = static_cast<std::size_t>(
+        static_cast<long long>(graph.vertices().rbegin()->first) - first_ + 1);
+    if (range <= kDenseFactor * graph.numVertices()) {
+      table_.assign(range, -1);
+    } else {
+      map_.reserve(graph.numVertices());
+    }
+  }
+  void add(VertexId id, int k) {
+    if (!table_.empty()) {
+      table_[static_cast<std::size_t>(static_cast<long long>(id) - first_)] = k;
+    } else {
+      map_.emplace(id, k);
+    }
+  }
+  /// The index of a vertex of the graph that was added.
+  [[nodiscard]] int at(VertexId id) const {
+    return table_.empty() ? map_.at(id)
+                          : table_[static_cast<std::size_t>(static_cast<long long>(id) - first_)];
+  }
+
+ private:
+  long long first_ = 0;
+  std::vector<int> table_;
+  std::unordered_map<VertexId, int> map_;
+};
+
+}  // namespace
+
 ConstraintReport checkConstraints(const Graph& graph) {
   ConstraintReport report;
   // Index the non-fixed vertices that have edges.
-  std::unordered_map<VertexId, int> index;
-  index.reserve(graph.numVertices());
+  IdIndex index(graph);
   std::vector<VertexId> ids;
+  std::vector<int> dimension;
   for (const auto& [id, v] : graph.vertices()) {
     if (v->fixed()) continue;
     if (v->edges().empty()) {
       report.without_edges.push_back(id);
       continue;
     }
-    index.emplace(id, static_cast<int>(ids.size()));
+    index.add(id, static_cast<int>(ids.size()));
     ids.push_back(id);
+    dimension.push_back(v->dimension());
   }
   std::vector<int> parent(ids.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -97,15 +139,17 @@ ConstraintReport checkConstraints(const Graph& graph) {
   for (std::size_t k = 0; k < ids.size(); ++k) {
     if (anchored[k]) root_anchored[find(static_cast<int>(k))] = 1;
   }
-  std::unordered_map<int, std::size_t> group_of_root;
+  std::vector<int> group_of_root(ids.size(), -1);
   for (std::size_t k = 0; k < ids.size(); ++k) {
-    const Vertex* v = graph.vertex(ids[k]);
-    if (measured[k] < v->dimension()) report.too_few_measurements.push_back(ids[k]);
+    if (measured[k] < dimension[k]) report.too_few_measurements.push_back(ids[k]);
     const int root = find(static_cast<int>(k));
     if (root_anchored[root]) continue;
-    auto [it, inserted] = group_of_root.emplace(root, report.unanchored.size());
-    if (inserted) report.unanchored.emplace_back();
-    report.unanchored[it->second].push_back(ids[k]);
+    int& group = group_of_root[static_cast<std::size_t>(root)];
+    if (group < 0) {
+      group = static_cast<int>(report.unanchored.size());
+      report.unanchored.emplace_back();
+    }
+    report.unanchored[static_cast<std::size_t>(group)].push_back(ids[k]);
   }
   return report;
 }
