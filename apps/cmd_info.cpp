@@ -35,12 +35,14 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (input.empty()) throw UsageError("info needs an input file");
   Registries reg;
   loadRegistries(reg, plugins);
-  const LoadedInput in = loadInput(input, reg.types);
+  LoadedInput in = loadInput(input, reg.types);
   const Graph& graph = in.graph;
-  if (in.format != "g2o") {
+  if (in.format != "g2o" || !in.notes.empty()) {
     std::printf("%s: %s\n", input.c_str(), in.description.c_str());
     for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
   }
+  // Created vertices have no estimates: they get them where optimize puts them.
+  initializeCreatedVertices(in, in.graph, reg.solvers);
   std::map<std::string, std::size_t> counts;
   for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
   for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
