@@ -5,35 +5,24 @@
 # ($GRAPHSLAM_DATA, else DATA) is optimised with the tool's defaults and reaches its final
 # chi2 (kitti_00: the best known 98.322012); skipped ("GRAPHSLAM_SKIP:") without the folder.
 #   cmake -DTOOL=graphslam -DMODE=small|datasets -DDATA=dir -DWORK=dir -P edges_only.cmake
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-
-function(expect regex)
-  execute_process(COMMAND "${TOOL}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE o ERROR_VARIABLE e)
-  message("${o}${e}")
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "exit code ${rc}: ${ARGN}")
-  endif()
-  if(NOT "${o}${e}" MATCHES "${regex}")
-    message(FATAL_ERROR "output does not match '${regex}': ${ARGN}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 
 if(MODE STREQUAL "small")
   set(f "${DATA}/edges_only.g2o")
   set(created "created 4 vertices from edges [(]the file has no vertex lines")
-  expect("${created}.*initialisation: global, 3 poses.*status: +converged.*chi2: +[0-9.e-]+ -> [0-9.]+e-[0-9]+.*wrote"
-         optimize "${f}" -o "${WORK}/square.g2o")
+  step("${created}.*initialisation: global, 3 poses.*status: +converged.*chi2: +[0-9.e-]+ -> [0-9.]+e-[0-9]+.*wrote"
+       "${TOOL}" optimize "${f}" -o "${WORK}/square.g2o")
   file(STRINGS "${WORK}/square.g2o" vertices REGEX "^VERTEX_SE2")
   list(LENGTH vertices n)
   if(NOT n EQUAL 4)
     message(FATAL_ERROR "square.g2o has ${n} VERTEX_SE2 lines, expected 4")
   endif()
-  expect("${created}.*VERTEX_SE2 +4\n.*every non-fixed vertex is determined" info "${f}")
-  expect("${created}.*initialisation: global.*wrote .*square.tum: 4 poses" convert "${f}" "${WORK}/square.tum")
+  step("${created}.*VERTEX_SE2 +4\n.*every non-fixed vertex is determined" "${TOOL}" info "${f}")
+  step("${created}.*initialisation: global.*wrote .*square.tum: 4 poses"
+       "${TOOL}" convert "${f}" "${WORK}/square.tum")
   # Dead reckoning starts at the identity: (0, 0, 0), (1, 0, 90), (1, 1, 180), (0, 1, -90).
-  expect("${created}.*4 poses; last [(]pose 3[)]: x 0.000000  y 1.000000  theta -1.570796 rad"
-         deadreckon "${f}" -o "${WORK}/square_dr.tum")
+  step("${created}.*4 poses; last [(]pose 3[)]: x 0.000000  y 1.000000  theta -1.570796 rad"
+       "${TOOL}" deadreckon "${f}" -o "${WORK}/square_dr.tum")
   return()
 endif()
 
@@ -61,6 +50,6 @@ foreach(c IN LISTS cases)
   list(GET fields 0 name)
   list(GET fields 1 n)
   list(GET fields 2 chi2)
-  expect("created ${n} vertices from edges.*status: +converged.*chi2: +[0-9.e+-]+ -> ${chi2}.*time: +[0-9.e-]+ s"
-         optimize "${DATA}/${name}.g2o" -q)
+  step("created ${n} vertices from edges.*status: +converged.*chi2: +[0-9.e+-]+ -> ${chi2}.*time: +[0-9.e-]+ s"
+       "${TOOL}" optimize "${DATA}/${name}.g2o" -q)
 endforeach()
