@@ -6,6 +6,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "id_index.h"
+
 namespace graphslam {
 
 std::string formatIdRanges(const std::vector<VertexId>& ids, std::size_t max_ids) {
@@ -50,51 +52,10 @@ std::string ConstraintReport::describe(std::size_t max_ids) const {
   return out;
 }
 
-namespace {
-
-/// Index of each listed vertex id: a table over the graph's id range when that is at most
-/// kDenseFactor times the number of vertices (the ids of real files are nearly contiguous;
-/// a million look-ups in a hash map took about half the check's time), else a hash map.
-class IdIndex {
- public:
-  static constexpr std::size_t kDenseFactor = 4;
-
-  explicit IdIndex(const Graph& graph) {
-    if (graph.numVertices() == 0) return;
-    first_ = graph.vertices().begin()->first;
-    const auto range = static_cast<std::size_t>(
-        static_cast<long long>(graph.vertices().rbegin()->first) - first_ + 1);
-    if (range <= kDenseFactor * graph.numVertices()) {
-      table_.assign(range, -1);
-    } else {
-      map_.reserve(graph.numVertices());
-    }
-  }
-  void add(VertexId id, int k) {
-    if (!table_.empty()) {
-      table_[static_cast<std::size_t>(static_cast<long long>(id) - first_)] = k;
-    } else {
-      map_.emplace(id, k);
-    }
-  }
-  /// The index of a vertex of the graph that was added.
-  [[nodiscard]] int at(VertexId id) const {
-    return table_.empty() ? map_.at(id)
-                          : table_[static_cast<std::size_t>(static_cast<long long>(id) - first_)];
-  }
-
- private:
-  long long first_ = 0;
-  std::vector<int> table_;
-  std::unordered_map<VertexId, int> map_;
-};
-
-}  // namespace
-
 ConstraintReport checkConstraints(const Graph& graph) {
   ConstraintReport report;
   // Index the non-fixed vertices that have edges.
-  IdIndex index(graph);
+  detail::IdIndex index(graph);
   std::vector<VertexId> ids;
   std::vector<int> dimension;
   for (const auto& [id, v] : graph.vertices()) {
