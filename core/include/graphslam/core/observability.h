@@ -26,7 +26,8 @@ struct ObservabilityOptions {
   /// does, along a curve, as a range does (a circle).
   double probe_step = 1.0;
   double straight_tolerance = 1e-6;
-  /// Threads forming the vertices' blocks (the result is the same for every count).
+  /// Threads testing the vertices' blocks (the edges are linearised serially, in edge order);
+  /// the result is the same for every count.
   int threads = 1;
   /// When given, vertices are named with their tag in the report ("vertex 7 (VERTEX_XY)").
   const TypeRegistry* types = nullptr;
