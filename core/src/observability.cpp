@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "graphslam/core/graph_checks.h"
+#include "graphslam/core/internal/fixed_size.h"
 #include "id_index.h"
 #include "thread_pool.h"
 
@@ -94,46 +95,20 @@ int blockRank(const Matrix& h, double tolerance) {
   return static_cast<int>((lambda.array() > tolerance * largest).count());
 }
 
-template <int D>
-int ownRank(const Vertex& v, double tolerance, std::vector<double>& scratch) {
-  return blockRank(ownBlock<D>(v, scratch), tolerance);
+/// f(std::integral_constant<int, D>{}) with D = d for the usual vertex dimensions (1, 2, 3:
+/// 2D; 6: 3D), whose blocks then get fixed-size arithmetic, D = 0 (dynamic) for the others.
+template <typename F>
+decltype(auto) withDimension(int d, F&& f) {
+  return detail::withFixedSize<1, 2, 3, 6>(d, f);
 }
 
-/// Rank of a stored d x d block (column-major): fixed-size arithmetic for D > 0.
-template <int D>
+/// Rank of a stored d x d block (column-major).
 int storedRank(const double* block, int d, double tolerance) {
-  using Matrix = std::conditional_t<D == 0, Eigen::MatrixXd, Eigen::Matrix<double, D, D>>;
-  return blockRank(Matrix(Eigen::Map<const Matrix>(block, d, d)), tolerance);
-}
-
-int storedRank(const double* block, int d, double tolerance) {
-  switch (d) {
-    case 1:
-      return storedRank<1>(block, d, tolerance);
-    case 2:
-      return storedRank<2>(block, d, tolerance);
-    case 3:
-      return storedRank<3>(block, d, tolerance);
-    case 6:
-      return storedRank<6>(block, d, tolerance);
-    default:
-      return storedRank<0>(block, d, tolerance);
-  }
-}
-
-/// addEdgeBlock with fixed-size loops for the usual dimensions.
-void addEdgeBlockOfDimension(const Edge& e, std::size_t slot, int d, std::vector<double>& scratch,
-                             double* h) {
-  switch (d) {
-    case 2:
-      return addEdgeBlock<2>(e, slot, d, scratch, h);
-    case 3:
-      return addEdgeBlock<3>(e, slot, d, scratch, h);
-    case 6:
-      return addEdgeBlock<6>(e, slot, d, scratch, h);
-    default:
-      return addEdgeBlock<0>(e, slot, d, scratch, h);
-  }
+  return withDimension(d, [&](auto dim) {
+    constexpr int D = decltype(dim)::value;
+    using Matrix = std::conditional_t<D == 0, Eigen::MatrixXd, Eigen::Matrix<double, D, D>>;
+    return blockRank(Matrix(Eigen::Map<const Matrix>(block, d, d)), tolerance);
+  });
 }
 
 /// The own block of every non-fixed vertex at the current estimates: every active edge's
@@ -170,28 +145,21 @@ struct OwnBlocks {
         const int k = index.find(e->vertexId(s));
         if (k < 0) continue;  // fixed
         ++active_edges[static_cast<std::size_t>(k)];
-        addEdgeBlockOfDimension(*e, s, dimension[static_cast<std::size_t>(k)], scratch,
-                                &values[offset[static_cast<std::size_t>(k)]]);
+        const int d = dimension[static_cast<std::size_t>(k)];
+        double* block = &values[offset[static_cast<std::size_t>(k)]];
+        withDimension(
+            d, [&](auto dim) { addEdgeBlock<decltype(dim)::value>(*e, s, d, scratch, block); });
       }
     }
   }
 };
 
-/// Rank of the own block of `v` at the current estimate (-1: not finite); fixed-size
-/// arithmetic for the usual dimensions.
+/// Rank of the own block of `v` at the current estimate (-1: not finite), from its edges'
+/// Jacobians.
 int ownRank(const Vertex& v, double tolerance, std::vector<double>& scratch) {
-  switch (v.dimension()) {
-    case 1:
-      return ownRank<1>(v, tolerance, scratch);
-    case 2:
-      return ownRank<2>(v, tolerance, scratch);
-    case 3:
-      return ownRank<3>(v, tolerance, scratch);
-    case 6:
-      return ownRank<6>(v, tolerance, scratch);
-    default:
-      return ownRank<0>(v, tolerance, scratch);
-  }
+  return withDimension(v.dimension(), [&](auto dim) {
+    return blockRank(ownBlock<decltype(dim)::value>(v, scratch), tolerance);
+  });
 }
 
 /// The block of one edge on its vertex `v`.
@@ -297,7 +265,7 @@ UndeterminedVertex describeVertex(Vertex& v, const std::vector<std::size_t>& edg
   }
   std::sort(u.neighbours.begin(), u.neighbours.end());
   u.neighbours.erase(std::unique(u.neighbours.begin(), u.neighbours.end()), u.neighbours.end());
-  u.rank = ownRank<0>(v, o.rank_tolerance, scratch);
+  u.rank = ownRank(v, o.rank_tolerance, scratch);
   u.reason = reasonFor(v, u, o, scratch);
   if (u.rank < 0) u.rank = 0;
   return u;
