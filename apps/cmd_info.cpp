@@ -9,6 +9,7 @@
 #include "cli_common.h"
 #include "graphslam/core/internal/file_util.h"
 #include "input.h"
+#include "observability_check.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -28,19 +29,22 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png]\n"
-        "Counts per type, connected components, fixed vertices, and the sparsity of H.",
+        "Counts per type, connected components, fixed vertices, the vertices the edges do not\n"
+        "determine (with the reason), and the sparsity of H.",
         desc);
     return kExitOk;
   }
   if (input.empty()) throw UsageError("info needs an input file");
   Registries reg;
   loadRegistries(reg, plugins);
-  const LoadedInput in = loadInput(input, reg.types);
+  LoadedInput in = loadInput(input, reg.types);
   const Graph& graph = in.graph;
-  if (in.format != "g2o") {
+  if (in.format != "g2o" || !in.notes.empty()) {
     std::printf("%s: %s\n", input.c_str(), in.description.c_str());
     for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
   }
+  // Created vertices have no estimates: the check below needs them where optimize puts them.
+  initializeCreatedVertices(in, in.graph, reg.solvers);
   std::map<std::string, std::size_t> counts;
   for (const auto& [id, v] : graph.vertices()) ++counts[*reg.types.tagOf(*v)];
   for (const auto& e : graph.edges()) ++counts[*reg.types.tagOf(*e)];
@@ -93,6 +97,7 @@ int cmdInfo(const std::vector<std::string>& args) {
                         : " (the optimizer fixes the lowest id)",
               fixed.c_str());
   std::printf("information matrix H: %d x %d\n", n, n);
+  printObservability(in, reg.types);
 
   if (!plot.empty()) {
     if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");

@@ -408,7 +408,9 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
         "usage: graphslam deadreckon IN [-o OUT.tum]\n"
         "Composes relative SE(2) poses from the identity (a 3xN matrix, column k = (dx, dy, "
         "dtheta)\n"
-        "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a .g2o, into a trajectory.",
+        "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a .g2o, into a trajectory.\n"
+        "A .g2o chain starts at the first pose's estimate; in a file without vertex lines the\n"
+        "poses are created from the edges and the chain starts at the identity.",
         desc);
     return kExitOk;
   }
@@ -417,7 +419,10 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
   if (endsWith(input, ".g2o")) {
     Registries reg;
     loadRegistries(reg, {});
-    t = homework::deadReckonGraph(loadGraphOrThrow(input, reg));
+    const LoadedInput in = loadInput(input, reg.types);
+    // Created vertices keep their default estimates: the chain starts at the identity.
+    if (in.created_vertices > 0) std::printf("%s\n", createdVerticesNote(in).c_str());
+    t = homework::deadReckonGraph(in.graph);
   } else {
     const Eigen::Matrix3Xd poses = deadReckonSE2(readMatrix3xN(input));
     t = trajectoryFromSE2(poses);
@@ -481,7 +486,12 @@ int cmdConvert(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (endsWith(input, ".g2o")) {
-    const Trajectory t = homework::trajectoryFromGraph(loadGraphOrThrow(input, reg));
+    LoadedInput in = loadInput(input, reg.types);
+    if (in.created_vertices > 0) {
+      std::printf("%s\n", createdVerticesNote(in).c_str());
+      initializeCreatedVertices(in, in.graph, reg.solvers);
+    }
+    const Trajectory t = homework::trajectoryFromGraph(in.graph);
     saveTrajectory(output, t, format);
     std::printf("wrote %s: %zu poses\n", output.c_str(), t.size());
     return kExitOk;

@@ -15,6 +15,7 @@
 
 #include "builtins.h"
 #include "cli_common.h"
+#include "graphslam/chordal/objective.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
@@ -29,10 +30,10 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
+#include "observability_check.h"
 #include "outlier_options.h"
 #include "output_set.h"
 #include "plotting.h"
-#include "graphslam/chordal/objective.h"
 #include "robust_options.h"
 
 #ifdef __GLIBC__
@@ -56,11 +57,16 @@ constexpr const char* kOptimizeUsage =
     "                          [--marginals FILE [--marginals-tag TAG]]\n"
     "                          [--robust-kernel NAME[:WIDTH] [--robust-edges "
     "all|loop-closures|TAG]]\n"
-    "                          [--reject-outliers [--outliers FILE]]\n"
-    "                          [--objective g2o|chordal] [--information refuse|nearest-pd|isotropic]\n"
+    "                          [--reject-outliers [--outliers FILE]] [--drop-unobservable]\n"
+    "                          [--objective g2o|chordal] [--information "
+    "refuse|nearest-pd|isotropic]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
+    "Vertices that no line defines (edges-only files) are created from the edges and placed\n"
+    "by the global initialisation. Before iterating, every vertex must be determined by its\n"
+    "edges: those that are not (no edges, a landmark seen by one range or along one line of\n"
+    "bearings) are named and the graph refused (exit 2), or removed with --drop-unobservable.\n"
     "--marginals writes the marginal covariance of every non-fixed vertex at the optimum, one\n"
     "line per vertex: its id, then the upper triangle of its covariance row by row (x y theta:\n"
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
@@ -148,6 +154,7 @@ struct OptimizeOptions {
   std::vector<std::string> plugins;
   std::string damping, first_step, init, marginals_file, marginals_tag;
   bool quiet = false;
+  bool drop_unobservable = false;
   Optimizer::Options options;
   RobustOptions robust;
   OutlierCliOptions outliers;
@@ -206,7 +213,11 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "marginals", po::value(&o.marginals_file),
       "write marginal covariances (upper triangle per vertex) here, atomically")(
       "marginals-tag", po::value(&o.marginals_tag),
-      "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)");
+      "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)")(
+      "drop-unobservable",
+      "remove the vertices the edges do not determine (no edges, a landmark seen by one "
+      "range or by parallel bearings) and their edges before optimising; without it such a "
+      "graph is refused (exit 2)");
   declareRobustOptions(desc, o.robust);
   declareOutlierOptions(desc, o.outliers);
 }
@@ -253,6 +264,7 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   options.max_iterations = o.iterations;
   options.linear_solver = o.solver;
   o.quiet = vm.count("quiet") != 0;
+  o.drop_unobservable = vm.count("drop-unobservable") != 0;
   checkOutlierOptions(vm, o.outliers);
   return true;
 }
@@ -398,6 +410,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
   } else {
     applyInitialGuess(in, graph, o.init, reg.solvers);
   }
+  // Before iterating: every vertex must be determined by its edges (or be dropped).
+  if (!checkBeforeSolving(in, reg.types, o.drop_unobservable, o.options.threads, o.quiet)) {
+    outputs.abort();
+    exitWithoutFreeing(kExitBadInput);
+  }
   outliers::GncResult gnc;
   if (o.outliers.reject &&
       !rejectOutliersForOptimize(graph, reg.solvers, o.options, o.outliers, o.quiet, gnc)) {
@@ -435,6 +452,13 @@ int cmdOptimize(const std::vector<std::string>& args) {
   if (!summary.succeeded() && summary.status != TerminationStatus::kNoProgress) {
     std::cerr << "optimisation failed: " << toString(summary.status) << ": " << summary.message
               << "\n";
+    const auto& edges = summary.failed_vertex_edges;
+    const std::string lines = edgeLines(edges, in.edge_lines, graph.numEdges());
+    if (summary.failed_vertex >= 0 && !lines.empty()) {
+      std::cerr << "vertex " << summary.failed_vertex << ": "
+                << (edges.size() == 1 ? "its edge is on " : "its edges are on ") << lines << " of "
+                << o.input << "\n";
+    }
     if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
     outputs.abort();
     exitWithoutFreeing(kExitFailed);

@@ -67,7 +67,13 @@ void applyInitialGuess(const LoadedInput& in, Graph& graph, std::string init,
                    "applies to SE(2) and SE(3) pose graphs)\n";
     }
   }
-  if (init != "global") return;
+  if (init != "global") {
+    if (in.created_vertices > 0) {
+      std::cout << "initialisation: none: the " << in.created_vertices
+                << " vertices created from edges keep their default estimates\n";
+    }
+    return;
+  }
   // The initial guess's two linear systems get the default solver's choice of ordering
   // and backend (large graphs need nested dissection and a supernodal factorisation).
   const auto init_solver = solvers.create("auto");
@@ -115,6 +121,7 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   io::LoadOptions load_options;
   load_options.threads = options.threads;
   load_options.information = options.information;
+  load_options.create_missing_vertices = options.create_missing_vertices;
   auto loaded = io::loadG2o(path, types, load_options);
   if (!loaded.ok()) {
     std::string all;
@@ -131,7 +138,22 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
         " information matrices were not positive definite and were repaired (" +
         (options.information == InformationRepair::kIsotropic ? "isotropic" : "nearest-pd") + ")");
   }
+  in.created_vertices = loaded.created_vertices;
+  if (in.created_vertices > 0) in.notes.push_back(createdVerticesNote(in));
   return in;
+}
+
+std::string createdVerticesNote(const LoadedInput& in) {
+  if (in.created_vertices == 0) return {};
+  const bool all = in.created_vertices == in.graph.numVertices();
+  return "created " + std::to_string(in.created_vertices) +
+         (in.created_vertices == 1 ? " vertex" : " vertices") + " from edges (" +
+         (all ? "the file has no vertex lines" : "no line of the file defines them") +
+         "; default estimates until initialised)";
+}
+
+void initializeCreatedVertices(const LoadedInput& in, Graph& graph, const SolverRegistry& solvers) {
+  if (in.created_vertices > 0) applyInitialGuess(in, graph, "global", solvers);
 }
 
 }  // namespace graphslam::apps

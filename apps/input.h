@@ -33,6 +33,9 @@ struct InputOptions {
   /// Information matrices that are not positive definite: refused or repaired
   /// (io::LoadOptions::information).
   InformationRepair information = InformationRepair::kRefuse;
+  /// Vertices that no line defines are created from the edges (io::LoadOptions::
+  /// create_missing_vertices): the tool reads edges-only files (SE-Sync's, KITTI's).
+  bool create_missing_vertices = true;
 };
 
 /// Parses refuse|nearest-pd|isotropic (--information); throws UsageError otherwise.
@@ -53,6 +56,9 @@ struct LoadedInput {
   /// initialisation must keep (.npz: the homework's); false for .g2o files, which get
   /// the global SE(2) initialisation by default.
   bool keep_initial_guess = false;
+  /// Vertices created from edges (no line of the file defines them; their estimates are
+  /// the types' defaults until an initialisation places them). A note says so.
+  std::size_t created_vertices = 0;
 };
 
 /// Loads `path` as described above. Throws graphslam::InputError whose message holds
@@ -62,6 +68,13 @@ struct LoadedInput {
 
 /// Parses auto|linear|bearing-range; throws UsageError otherwise.
 [[nodiscard]] homework::PointObservationModel parseNpzModel(const std::string& text);
+
+/// "created N vertices from edges (...)" for a graph with created vertices, else empty.
+[[nodiscard]] std::string createdVerticesNote(const LoadedInput& in);
+
+/// For a graph with vertices created from edges, which have no estimates of their own: the
+/// global initialisation (SE(2) poses and landmarks), saying so; nothing otherwise.
+void initializeCreatedVertices(const LoadedInput& in, Graph& graph, const SolverRegistry& solvers);
 
 /// Checks an --init value (auto|global|none); throws UsageError otherwise.
 void checkInitChoice(const std::string& init);

@@ -6,6 +6,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "id_index.h"
+
 namespace graphslam {
 
 std::string formatIdRanges(const std::vector<VertexId>& ids, std::size_t max_ids) {
@@ -53,17 +55,18 @@ std::string ConstraintReport::describe(std::size_t max_ids) const {
 ConstraintReport checkConstraints(const Graph& graph) {
   ConstraintReport report;
   // Index the non-fixed vertices that have edges.
-  std::unordered_map<VertexId, int> index;
-  index.reserve(graph.numVertices());
+  detail::IdIndex index(graph);
   std::vector<VertexId> ids;
+  std::vector<int> dimension;
   for (const auto& [id, v] : graph.vertices()) {
     if (v->fixed()) continue;
     if (v->edges().empty()) {
       report.without_edges.push_back(id);
       continue;
     }
-    index.emplace(id, static_cast<int>(ids.size()));
+    index.add(id, static_cast<int>(ids.size()));
     ids.push_back(id);
+    dimension.push_back(v->dimension());
   }
   std::vector<int> parent(ids.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -97,15 +100,17 @@ ConstraintReport checkConstraints(const Graph& graph) {
   for (std::size_t k = 0; k < ids.size(); ++k) {
     if (anchored[k]) root_anchored[find(static_cast<int>(k))] = 1;
   }
-  std::unordered_map<int, std::size_t> group_of_root;
+  std::vector<int> group_of_root(ids.size(), -1);
   for (std::size_t k = 0; k < ids.size(); ++k) {
-    const Vertex* v = graph.vertex(ids[k]);
-    if (measured[k] < v->dimension()) report.too_few_measurements.push_back(ids[k]);
+    if (measured[k] < dimension[k]) report.too_few_measurements.push_back(ids[k]);
     const int root = find(static_cast<int>(k));
     if (root_anchored[root]) continue;
-    auto [it, inserted] = group_of_root.emplace(root, report.unanchored.size());
-    if (inserted) report.unanchored.emplace_back();
-    report.unanchored[it->second].push_back(ids[k]);
+    int& group = group_of_root[static_cast<std::size_t>(root)];
+    if (group < 0) {
+      group = static_cast<int>(report.unanchored.size());
+      report.unanchored.emplace_back();
+    }
+    report.unanchored[static_cast<std::size_t>(group)].push_back(ids[k]);
   }
   return report;
 }

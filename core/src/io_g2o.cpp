@@ -1,28 +1,22 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/core/io_g2o.h"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
 #include <algorithm>
-#include <array>
 #include <cerrno>
-#include <charconv>
-#include <cmath>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
 #include <exception>
 #include <fstream>
-#include <future>
 #include <memory>
 #include <mutex>
-#include <sstream>
 #include <string_view>
 #include <thread>
 #include <unordered_map>
 
 #include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
+#include "io_g2o_parse.h"
+#include "slot_types.h"
 
 namespace graphslam::io {
 
@@ -32,328 +26,9 @@ std::string Diagnostic::str() const {
 
 namespace {
 
-/// A bad line; caught per line and turned into a Diagnostic.
-struct LineError {
-  std::string message;
-};
-
-/// The C locale's white space (std::isspace without the locale lookup per character).
-constexpr bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-}
-
-/// Splits `line` at white space into `tokens` (cleared first; its storage is reused).
-void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
-  tokens.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && isSpace(line[i])) ++i;
-    if (i >= line.size()) break;
-    std::size_t j = i;
-    while (j < line.size() && !isSpace(line[j])) ++j;
-    tokens.push_back(line.substr(i, j - i));
-    i = j;
-  }
-}
-
-/// `token` in quotes for a message: bytes that would not show (control characters,
-/// non-ASCII: binary or UTF-16 input, a byte-order mark) as \xHH, and at most
-/// kQuotedBytes of it.
-std::string quote(std::string_view token) {
-  constexpr std::size_t kQuotedBytes = 40;
-  std::string out = "'";
-  for (std::size_t i = 0; i < token.size() && i < kQuotedBytes; ++i) {
-    const auto c = static_cast<unsigned char>(token[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += {'\\', 'x', kHex[c >> 4], kHex[c & 15]};
-    }
-  }
-  out += token.size() > kQuotedBytes ? "'..." : "'";
-  if (token.substr(0, 3) == "\xEF\xBB\xBF") {
-    out += " (a UTF-8 byte-order mark: save the file without one)";
-  }
-  return out;
-}
-
-double parseDouble(std::string_view token, std::size_t index, std::string_view tag) {
-  std::string_view t = token;
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  double value = 0.0;
-  auto res = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (res.ec == std::errc::result_out_of_range && res.ptr == t.data() + t.size()) {
-    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is out of the range of a double"};
-  }
-  if (res.ec != std::errc() || res.ptr != t.data() + t.size()) {
-    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is not a number"};
-  }
-  if (!std::isfinite(value)) {
-    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is not finite"};
-  }
-  return value;
-}
-
-/// An id (`what`: "vertex id" or "parameter id"; both are ints).
-VertexId parseId(std::string_view token, std::size_t index, std::string_view tag,
-                 const char* what = "vertex id") {
-  long long value = 0;
-  auto res = std::from_chars(token.data(), token.data() + token.size(), value);
-  const bool whole = res.ptr == token.data() + token.size();
-  if (whole && (res.ec == std::errc::result_out_of_range ||
-                (res.ec == std::errc() && (value < std::numeric_limits<VertexId>::min() ||
-                                           value > std::numeric_limits<VertexId>::max())))) {
-    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is out of the range of " + what + "s (" +
-                    std::to_string(std::numeric_limits<VertexId>::min()) + " to " +
-                    std::to_string(std::numeric_limits<VertexId>::max()) + ")"};
-  }
-  if (res.ec != std::errc() || !whole) {
-    throw LineError{std::string(tag) + ": value " + std::to_string(index) + " " + quote(token) +
-                    " is not a " + what + " (an integer)"};
-  }
-  return static_cast<VertexId>(value);
-}
-
-/// One parsed line: what reading it needs no graph for (tokens, numbers, the new vertex or
-/// edge object and its own checks), so that lines can be parsed on several threads.
-struct ParsedLine {
-  int line = 0;                          ///< 1-based, within its chunk
-  std::unique_ptr<Vertex> vertex;        ///< a vertex line
-  std::unique_ptr<Edge> edge;            ///< an edge line
-  std::unique_ptr<Parameter> parameter;  ///< a parameter line
-  std::vector<VertexId> fix;             ///< a FIX line
-  const std::string* tag = nullptr;      ///< a vertex or edge line's tag (the registry's string)
-  std::string error;                     ///< a bad line: why
-  bool bad = false;
-  bool indefinite = false;  ///< an edge whose information is not positive definite (refused)
-  bool repaired = false;    ///< ... that was repaired
-};
-
-/// A run of whole lines of the input and, once parsed, its lines.
-struct Chunk {
-  std::string text;
-  std::vector<ParsedLine> lines;
-  int line_count = 0;
-  std::exception_ptr failure;  ///< an exception other than a bad line, rethrown in order
-  bool parsed = false;
-};
-
-/// Parses chunks; one per thread (its scratch storage is reused from line to line).
-class LineParser {
- public:
-  LineParser(const TypeRegistry& types, const LoadOptions& options)
-      : types_(types), options_(options) {}
-
-  void parse(Chunk& chunk) {
-    chunk.lines.clear();
-    const std::string_view text(chunk.text);
-    int line_no = 0;
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-      std::size_t end = text.find('\n', pos);
-      if (end == std::string_view::npos) end = text.size();
-      std::string_view view = text.substr(pos, end - pos);
-      pos = end + 1;
-      ++line_no;
-      if (auto hash = view.find('#'); hash != std::string_view::npos) view = view.substr(0, hash);
-      tokenize(view, tokens_);
-      if (tokens_.empty()) continue;
-      ParsedLine& out = chunk.lines.emplace_back();
-      out.line = line_no;
-      try {
-        parseLine(tokens_, out);
-      } catch (const LineError& err) {
-        out = ParsedLine{};
-        out.line = line_no;
-        out.bad = true;
-        out.error = err.message;
-      }
-    }
-    chunk.line_count = line_no;
-  }
-
- private:
-  void parseLine(const std::vector<std::string_view>& tokens, ParsedLine& out) {
-    const std::string tag(tokens[0]);
-    if (tag == "FIX") {
-      if (tokens.size() < 2) throw LineError{"FIX expects at least one vertex id"};
-      for (std::size_t i = 1; i < tokens.size(); ++i) out.fix.push_back(parseId(tokens[i], i, tag));
-      return;
-    }
-    const TypeRegistry::Entry* entry = types_.find(tag);
-    if (!entry) {
-      throw LineError{"unknown tag " + quote(tag) +
-                      " (graphslam list-types shows the known ones; --plugin loads more)"};
-    }
-    const std::size_t found = tokens.size() - 1;
-    if (entry->kind == TypeRegistry::Kind::kParameter) {
-      auto p = entry->make_parameter();
-      const std::size_t expected = 1 + static_cast<std::size_t>(p->dataDimension());
-      if (found != expected) throw LineError{countMessage(tag, expected, found)};
-      p->setId(parseId(tokens[1], 1, tag, "parameter id"));
-      values_.resize(expected - 1);
-      for (std::size_t i = 0; i + 1 < expected; ++i)
-        values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
-      out.error = refusal(tag, [&] { p->setData(values_.data()); });
-      out.parameter = std::move(p);
-      out.tag = &entry->tag;
-      return;
-    }
-    if (entry->kind == TypeRegistry::Kind::kVertex) {
-      auto v = entry->make_vertex();
-      const std::size_t est = static_cast<std::size_t>(v->estimateDataDimension());
-      const std::size_t expected = 1 + est + static_cast<std::size_t>(v->parameterDataDimension());
-      if (found != expected) throw LineError{countMessage(tag, expected, found)};
-      const VertexId id = parseId(tokens[1], 1, tag);
-      values_.resize(expected - 1);
-      for (std::size_t i = 0; i + 1 < expected; ++i)
-        values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
-      v->setId(id);
-      v->setEstimateData(values_.data());
-      // Reported after the duplicate-id check (at commit), as a serial reader would.
-      out.error = refusal(tag, [&] { v->setParameterData(values_.data() + est); });
-      out.vertex = std::move(v);
-      out.tag = &entry->tag;
-      return;
-    }
-    parseEdge(tokens, *entry, out);
-  }
-
-  /// An edge line: `TAG id... [|| count] parameter-id... measurement... information...`
-  /// (the count only in g2o's separated layout, Edge::separatedCount).
-  void parseEdge(const std::vector<std::string_view>& tokens, const TypeRegistry::Entry& entry,
-                 ParsedLine& out) {
-    const std::string& tag = entry.tag;
-    auto e = entry.make_edge();
-    const std::size_t found = tokens.size() - 1;
-    // In the separated layout the ids come first: they size the edge.
-    const bool separated = e->arity() < 0 && e->separatedCount(0) >= 0;
-    const std::size_t first = separated ? readSeparatedIds(tokens, tag, *e) : 1;
-    const int d = e->dimension();
-    const std::size_t meas = static_cast<std::size_t>(e->measurementDataDimension()) +
-                             static_cast<std::size_t>(e->parameterDataDimension());
-    const std::size_t info = static_cast<std::size_t>(d * (d + 1) / 2);
-    // Parameter ids follow the vertex ids (g2o's layout).
-    const std::size_t num_params = static_cast<std::size_t>(e->numParameters());
-    const std::size_t rest = num_params + meas + info;
-    std::size_t num_ids = 0;
-    if (separated) {
-      if (found != first - 1 + rest) throw LineError{countMessage(tag, first - 1 + rest, found)};
-    } else if (e->arity() > 0) {
-      num_ids = static_cast<std::size_t>(e->arity());
-      if (found != num_ids + rest) throw LineError{countMessage(tag, num_ids + rest, found)};
-    } else {
-      if (found < 1 + rest) {
-        throw LineError{tag + " expects at least " + std::to_string(1 + rest) +
-                        " numbers after the tag (vertex ids, " +
-                        (num_params ? std::to_string(num_params) + " parameter ids, " : "") +
-                        std::to_string(meas) + " measurement and parameter values, " +
-                        std::to_string(info) + " information values), found " +
-                        std::to_string(found)};
-      }
-      num_ids = found - rest;
-    }
-    if (!separated) setVertexIds(*e, tokens, num_ids, tag);
-    const std::size_t first_param = separated ? first : 1 + num_ids;
-    for (std::size_t i = 0; i < num_params; ++i) {
-      const std::size_t at = first_param + i;
-      e->setParameterId(i, parseId(tokens[at], at, tag, "parameter id"));
-    }
-    values_.resize(meas + info);
-    const std::size_t first_value = first_param + num_params;
-    for (std::size_t i = 0; i < meas + info; ++i) {
-      values_[i] = parseDouble(tokens[first_value + i], first_value + i, tag);
-    }
-    Eigen::MatrixXd& omega = omega_;  // storage reused from line to line
-    omega.resize(d, d);
-    std::size_t k = meas;
-    for (int r = 0; r < d; ++r) {
-      for (int c = r; c < d; ++c) {
-        omega(r, c) = values_[k];
-        omega(c, r) = values_[k];
-        ++k;
-      }
-    }
-    // Checked after the edge's vertices are known to be defined (at commit), in this
-    // order: the information matrix, then the parameters.
-    if (llt_.compute(omega).info() != Eigen::Success) {
-      out.repaired = repairInformation(omega, options_.information, options_.nearest_pd_floor) &&
-                     llt_.compute(omega).info() == Eigen::Success;
-      out.indefinite = !out.repaired;
-    }
-    if (out.indefinite) {
-      out.error = tag + ": information matrix is not positive definite";
-    } else {
-      e->setMeasurementData(values_.data());
-      out.error = refusal(
-          tag, [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
-      e->setInformationData(omega.data());
-    }
-    out.edge = std::move(e);
-    out.tag = &entry.tag;
-  }
-
-  /// The vertex ids of a line in g2o's separated layout (Edge::separatedCount): the tokens
-  /// before "||", set on `e` (which sizes it), and the count after it, checked. Returns the
-  /// index of the token after the count.
-  static std::size_t readSeparatedIds(const std::vector<std::string_view>& tokens,
-                                      const std::string& tag, Edge& e) {
-    std::size_t sep = 1;
-    while (sep < tokens.size() && tokens[sep] != "||") ++sep;
-    if (sep == 1 || sep + 1 >= tokens.size()) {
-      throw LineError{tag + " expects its vertex ids to be followed by '||' and a count"};
-    }
-    setVertexIds(e, tokens, sep - 1, tag);
-    const int expected = e.separatedCount(sep - 1);
-    if (parseId(tokens[sep + 1], sep + 1, tag, "count") != expected) {
-      throw LineError{tag + ": the count " + quote(tokens[sep + 1]) + " after '||' does not " +
-                      "match its " + std::to_string(sep - 1) + " vertex ids (" +
-                      std::to_string(expected) + " expected)"};
-    }
-    return sep + 2;
-  }
-
-  /// Sets the `count` ids after the tag on `e`; a count the type refuses is a bad line.
-  static void setVertexIds(Edge& e, const std::vector<std::string_view>& tokens, std::size_t count,
-                           const std::string& tag) {
-    std::vector<VertexId> ids(count);  // moved into the edge
-    for (std::size_t i = 0; i < count; ++i) ids[i] = parseId(tokens[1 + i], 1 + i, tag);
-    try {
-      e.setVertexIds(std::move(ids));
-    } catch (const Error& err) {
-      throw LineError{tag + ": " + err.what()};
-    }
-  }
-
-  /// Runs `set` (a setParameterData call); the message when the type refuses the value,
-  /// else empty.
-  template <typename F>
-  static std::string refusal(const std::string& tag, F&& set) {
-    try {
-      set();
-    } catch (const Error& err) {
-      return tag + ": " + err.what();
-    }
-    return {};
-  }
-
-  static std::string countMessage(const std::string& tag, std::size_t expected, std::size_t found) {
-    return tag + " expects " + std::to_string(expected) + " numbers after the tag, found " +
-           std::to_string(found);
-  }
-
-  const TypeRegistry& types_;
-  const LoadOptions& options_;
-  std::vector<double> values_;
-  std::vector<std::string_view> tokens_;
-  Eigen::MatrixXd omega_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
-};
+using graphslam::detail::Chunk;
+using graphslam::detail::LineParser;
+using graphslam::detail::ParsedLine;
 
 /// Reads the input in chunks of whole lines. Chunks are parsed on up to `threads` threads
 /// (the calling one included) and added to the graph in file order by the calling thread,
@@ -559,7 +234,9 @@ class Reader {
   /// false when loading must stop.
   bool commit(ParsedLine& p, int line_no) {
     if (p.bad) return report(line_no, std::move(p.error));
-    if (p.indefinite && options_.strict && allDefined(*p.edge)) {
+    // With create_missing_vertices every vertex an edge refers to will exist.
+    if (p.indefinite && options_.strict &&
+        (options_.create_missing_vertices || allDefined(*p.edge))) {
       // Counted to the end of the file, so that the message gives the whole extent.
       if (++result_.refused_information <= LoadOptions::kListedLines) {
         result_.diagnostics.push_back({name_, line_no, std::move(p.error)});
@@ -583,13 +260,18 @@ class Reader {
     if (p.vertex) {
       const VertexId id = p.vertex->id();
       if (result_.graph.hasVertex(id)) {
+        const VertexLine& first = vertexLine(id);
+        if (first.created_by) {  // an edge before this line made it: still an error
+          return report(first.line, *first.created_by + ": refers to vertex " + std::to_string(id) +
+                                        ", which is not defined before this line (" + *p.tag +
+                                        " defines it on line " + std::to_string(line_no) + ")");
+        }
         return report(line_no, *p.tag + ": duplicate vertex id " + std::to_string(id) +
-                                   " (first defined on line " + std::to_string(vertexLine(id)) +
-                                   ")");
+                                   " (first defined on line " + std::to_string(first.line) + ")");
       }
       if (!p.error.empty()) return report(line_no, std::move(p.error));
       result_.graph.addVertex(std::move(p.vertex));
-      vertex_lines_.emplace_back(id, line_no);
+      vertex_lines_.push_back({id, line_no, nullptr});
       return true;
     }
     // The ids outlive an edge that addEdge refuses (and destroys); storage reused.
@@ -597,16 +279,64 @@ class Reader {
     param_ids_.resize(static_cast<std::size_t>(p.edge->numParameters()));
     for (std::size_t i = 0; i < param_ids_.size(); ++i) param_ids_[i] = p.edge->parameterId(i);
     if (p.error.empty()) {
+      std::size_t created = 0;
+      if (options_.create_missing_vertices) {
+        std::string why;
+        created = createMissingVertices(*p.tag, line_no, why);
+        if (!why.empty()) return report(line_no, std::move(why));
+      }
       // The usual case: addEdge finds the vertices (no second look-up here).
       try {
         result_.graph.addEdge(std::move(p.edge));
         result_.edge_lines.push_back(static_cast<std::size_t>(line_no));
         return true;
       } catch (const Error& err) {
-        return report(line_no, edgeMessage(*p.tag, err.what()));
+        std::string message = edgeMessage(*p.tag, err.what());
+        forgetCreatedVertices(created);
+        return report(line_no, std::move(message));
       }
     }
     return report(line_no, edgeMessage(*p.tag, p.error));
+  }
+
+  /// Creates the vertices ids_ refers to that the graph does not have yet (the type their
+  /// slot takes, default estimate); returns how many. `why` is set when a slot takes no
+  /// registered vertex type (nothing is created then).
+  std::size_t createMissingVertices(const std::string& tag, int line_no, std::string& why) {
+    std::size_t created = 0;
+    for (std::size_t slot = 0; slot < ids_.size(); ++slot) {
+      const VertexId id = ids_[slot];
+      if (result_.graph.hasVertex(id)) continue;
+      const TypeRegistry::Entry* type = slot_types_.typeFor(tag, slot);
+      if (!type) {
+        forgetCreatedVertices(created);
+        why = tag + ": refers to vertex " + std::to_string(id) +
+              ", which no line defines, and no registered vertex type fits its slot " +
+              std::to_string(slot) + " (so it cannot be created)";
+        return 0;
+      }
+      auto v = type->make_vertex();
+      v->setId(id);
+      result_.graph.addVertex(std::move(v));
+      vertex_lines_.push_back({id, line_no, &tag});
+      ++created;
+      ++result_.created_vertices;
+    }
+    return created;
+  }
+
+  /// Removes the last `count` vertices createMissingVertices made (their edge was refused).
+  void forgetCreatedVertices(std::size_t count) {
+    for (; count > 0; --count) {
+      const VertexId id = vertex_lines_.back().id;
+      if (indexed_ == vertex_lines_.size()) {
+        line_index_.erase(id);
+        --indexed_;
+      }
+      vertex_lines_.pop_back();
+      result_.graph.removeVertex(id);
+      --result_.created_vertices;
+    }
   }
 
   /// Whether every vertex and parameter the edge refers to is defined.
@@ -622,9 +352,11 @@ class Reader {
 
   /// The message for an edge on the vertices ids_ that was not added: a vertex not defined
   /// before its line first, else `message` (addEdge's without its prefix, or the parser's).
-  std::string edgeMessage(const std::string& tag, std::string message) const {
+  std::string edgeMessage(const std::string& tag, std::string message) {
     for (VertexId id : ids_) {
-      if (!result_.graph.hasVertex(id)) {
+      // With create_missing_vertices, an edge with a bad line creates nothing: its own
+      // message is the one to give.
+      if (!options_.create_missing_vertices && !result_.graph.hasVertex(id)) {
         return tag + ": refers to vertex " + std::to_string(id) +
                ", which is not defined before this line";
       }
@@ -643,24 +375,25 @@ class Reader {
 
   /// For an edge refused because a vertex has the wrong type: which vertex, its tag and
   /// the tags the slot takes (from the registry); empty when every slot accepts its vertex.
-  std::string wrongSlotMessage(const std::string& tag) const {
+  std::string wrongSlotMessage(const std::string& tag) {
     const TypeRegistry::Entry* entry = types_.find(tag);
     if (!entry || entry->kind != TypeRegistry::Kind::kEdge) return {};
     const auto probe = entry->make_edge();
     for (std::size_t slot = 0; slot < ids_.size(); ++slot) {
       const Vertex* v = result_.graph.vertex(ids_[slot]);
       if (!v || probe->acceptsVertex(slot, *v)) continue;
-      std::string takes;
-      for (const TypeRegistry::Entry* e : types_.entries()) {
-        if (e->kind != TypeRegistry::Kind::kVertex) continue;
-        if (probe->acceptsVertex(slot, *e->make_vertex()))
-          takes += (takes.empty() ? "" : " or ") + e->tag;
-      }
       const std::string* is = types_.tagOf(*v);
+      const VertexLine& first = vertexLine(ids_[slot]);
+      const std::string created = first.created_by
+                                      ? " (created for the " + *first.created_by + " on line " +
+                                            std::to_string(first.line) + ")"
+                                      : std::string();
       return tag + ": vertex " + std::to_string(ids_[slot]) + " has the wrong type for slot " +
              std::to_string(slot) + ": it is a " +
-             (is ? *is : std::string("vertex of no registered tag")) + ", the slot takes " +
-             (takes.empty() ? std::string("no registered vertex type") : takes);
+             (is ? *is : std::string("vertex of no registered tag")) + created +
+             ", the slot takes " +
+             detail::joinTags(detail::acceptedVertexTypes(types_, *probe, slot),
+                              "no registered vertex type");
     }
     return {};
   }
@@ -674,37 +407,41 @@ class Reader {
     for (std::size_t slot = 0; slot < param_ids_.size(); ++slot) {
       const Parameter* p = result_.graph.parameter(param_ids_[slot]);
       if (!p || probe->acceptsParameter(slot, *p)) continue;
-      std::string takes;
-      for (const TypeRegistry::Entry* e : types_.entries()) {
-        if (e->kind != TypeRegistry::Kind::kParameter) continue;
-        if (probe->acceptsParameter(slot, *e->make_parameter()))
-          takes += (takes.empty() ? "" : " or ") + e->tag;
-      }
       const std::string* is = types_.tagOf(*p);
       return tag + ": parameter " + std::to_string(param_ids_[slot]) +
              " has the wrong type for parameter slot " + std::to_string(slot) + ": it is a " +
              (is ? *is : std::string("parameter of no registered tag")) + ", the slot takes " +
-             (takes.empty() ? std::string("no registered parameter type") : takes);
+             detail::joinTags(detail::acceptedParameterTypes(types_, *probe, slot),
+                              "no registered parameter type");
     }
     return {};
   }
 
-  /// Line of the vertex `id` (read earlier). Only a duplicate's message needs it: the
-  /// index is built then, and kept up to date from there on.
-  int vertexLine(VertexId id) {
+  /// Where a vertex of the graph came from: its own line, or the edge that created it.
+  struct VertexLine {
+    VertexId id = 0;
+    int line = 0;
+    const std::string* created_by = nullptr;  ///< the creating edge's tag; null: a vertex line
+  };
+
+  /// Where the vertex `id` (in the graph) came from. Only messages need it: the index is
+  /// built at the first, and kept up to date from there on.
+  const VertexLine& vertexLine(VertexId id) {
     for (; indexed_ < vertex_lines_.size(); ++indexed_) {
-      line_index_.emplace(vertex_lines_[indexed_].first, vertex_lines_[indexed_].second);
+      line_index_.emplace(vertex_lines_[indexed_].id, indexed_);
     }
+    static const VertexLine kUnknown;
     const auto it = line_index_.find(id);
-    return it == line_index_.end() ? 0 : it->second;
+    return it == line_index_.end() ? kUnknown : vertex_lines_[it->second];
   }
 
   std::string name_;
   const TypeRegistry& types_;
   LoadOptions options_;
   LoadResult result_;
-  std::vector<std::pair<VertexId, int>> vertex_lines_;  ///< in file order
-  std::unordered_map<VertexId, int> line_index_;        ///< vertex_lines_[0, indexed_)
+  detail::SlotVertexTypes slot_types_{types_};
+  std::vector<VertexLine> vertex_lines_;                  ///< in file order
+  std::unordered_map<VertexId, std::size_t> line_index_;  ///< vertex_lines_[0, indexed_)
   std::size_t indexed_ = 0;
   std::vector<VertexId> ids_;           ///< the vertices of the edge being added
   std::vector<ParameterId> param_ids_;  ///< its parameters

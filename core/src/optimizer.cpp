@@ -10,6 +10,7 @@
 #include "graphslam/core/error.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
+#include "graphslam/core/observability.h"
 #include "hessian_structure.h"
 #include "minimizer/step_strategy.h"
 #include "optimizer_impl.h"
@@ -68,8 +69,7 @@ std::string Summary::report() const {
     s << "\nrobust cost:   " << initial_cost << " -> " << final_cost << " (" << robust_edges
       << " edges with a robust kernel)";
   }
-  s
-    << "\niterations:    " << iterations;
+  s << "\niterations:    " << iterations;
   s.precision(4);
   s << "\ntime:          " << total_time << " s (linearize " << time.linearize << ", build "
     << time.build << ", factorize " << time.factorize << ", solve " << time.solve << ")";
@@ -119,23 +119,64 @@ std::string likelyCause(const Vertex* v, const std::vector<std::vector<VertexId>
   }
   const std::size_t edges = v->edges().size();
   if (edges == 0) return "it has no edges";
-  if (edges == 1) {
-    return "it has a single edge, which may not determine all its " +
-           std::to_string(v->dimension()) + " dimensions (a landmark seen once?)";
+  const std::string its =
+      edges == 1 ? "its single edge" : "its " + std::to_string(edges) + " edges";
+  const int rank = ownBlockRank(*v);  // from the Jacobians of the failed iteration
+  if (rank >= 0 && rank < v->dimension()) {
+    return its + (edges == 1 ? " determines" : " determine") + " only " + std::to_string(rank) +
+           " of its " + std::to_string(v->dimension()) +
+           " directions (a landmark seen by one range, or by bearings along one line?)";
   }
-  return "its " + std::to_string(edges) +
-         " edges may not determine it (e.g. bearings along one direction)";
+  return its + (edges == 1 ? " determines" : " determine") +
+         " it when the other vertices are held fixed: it is undetermined together with its "
+         "neighbours (too few edges among them)";
 }
 
-/// The numerical failure of the linear solver, with the vertex and its likely cause.
+/// The active edges of `v` as indices into graph.edges(), and the vertices they join it to
+/// ("vertices 3, 5, 9"; at most `max_ids`; "no other vertex" for unary edges only).
+std::vector<std::size_t> edgesOf(const Graph& graph, const Vertex& v, std::string& joins) {
+  constexpr std::size_t max_ids = 10;
+  std::vector<std::size_t> out;
+  std::vector<VertexId> others;
+  const auto& edges = graph.edges();
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const Edge& e = *edges[k];
+    if (!e.active() || std::find(v.edges().begin(), v.edges().end(), &e) == v.edges().end())
+      continue;
+    out.push_back(k);
+    for (std::size_t s = 0; s < e.numVertices(); ++s) {
+      if (e.vertex(s) != &v) others.push_back(e.vertexId(s));
+    }
+  }
+  std::sort(others.begin(), others.end());
+  others.erase(std::unique(others.begin(), others.end()), others.end());
+  for (std::size_t k = 0; k < others.size() && k < max_ids; ++k) {
+    joins += (k == 0 ? "" : ", ") + std::to_string(others[k]);
+  }
+  if (others.size() > max_ids) joins += ", ... (" + std::to_string(others.size()) + " in all)";
+  joins = others.empty()       ? "no other vertex"
+          : others.size() == 1 ? "vertex " + joins
+                               : "vertices " + joins;
+  return out;
+}
+
+/// The numerical failure of the linear solver, with the vertex, its edges and its likely
+/// cause (the vertex and its edges also into the summary).
 std::string failureMessage(const Optimizer::Impl& im, const Graph& graph,
-                           const LinearSolverResult& r, const Summary& summary) {
+                           const LinearSolverResult& r, Summary& summary) {
   std::string msg = std::string("linear solver: ") + toString(r.status);
   if (!r.message.empty()) msg += ": " + r.message;
   const VertexId id = im.structure.vertexOfColumn(r.column);
-  if (id >= 0) {
+  const Vertex* v = id >= 0 ? graph.vertex(id) : nullptr;
+  if (v) {
     msg += " (at vertex " + std::to_string(id) + ")";
-    const std::string cause = likelyCause(graph.vertex(id), summary.unanchored);
+    std::string joins;
+    summary.failed_vertex = id;
+    summary.failed_vertex_edges = edgesOf(graph, *v, joins);
+    const std::size_t n = summary.failed_vertex_edges.size();
+    msg += "; its " + (n == 1 ? std::string("edge joins") : std::to_string(n) + " edges join") +
+           " it to " + joins;
+    const std::string cause = likelyCause(v, summary.unanchored);
     if (!cause.empty()) msg += "; " + cause;
   }
   return msg;
@@ -162,7 +203,8 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
       for (VertexId id : group) ids += " " + std::to_string(id);
       log(LogLevel::kWarning,
           "vertices with no anchor (no fixed vertex, no prior) — their position is "
-          "undetermined:" + ids);
+          "undetermined:" +
+              ids);
     }
   }
   summary.gauge_fixed = gauge.fixedIds();
@@ -273,8 +315,8 @@ void Optimizer::linearizeAndAssemble(IterationStats& st) {
   st.time.build = seconds(t1, Clock::now());
 }
 
-void Optimizer::recordIteration(Summary& summary, IterationStats& st,
-                                const detail::StepResult& r, Clock::time_point t_start) {
+void Optimizer::recordIteration(Summary& summary, IterationStats& st, const detail::StepResult& r,
+                                Clock::time_point t_start) {
   using Kind = detail::StepResult::Kind;
   st.chi2 = r.cost;
   st.lambda = r.kind == Kind::kAccepted ? r.lambda : 0.0;

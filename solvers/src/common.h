@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "graphslam/core/internal/fixed_size.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/ordering.h"
@@ -21,16 +22,7 @@ namespace graphslam::solvers::detail {
 /// block unrolled), D = 0 for any other d (the callee reads d at run time).
 template <typename F>
 decltype(auto) withFixedSize(int d, F&& f) {
-  switch (d) {
-    case 1:
-      return f(std::integral_constant<int, 1>{});
-    case 2:
-      return f(std::integral_constant<int, 2>{});
-    case 3:
-      return f(std::integral_constant<int, 3>{});
-    default:
-      return f(std::integral_constant<int, 0>{});
-  }
+  return graphslam::detail::withFixedSize<1, 2, 3>(d, f);
 }
 
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
@@ -130,7 +122,9 @@ class OrderedSolver : public LinearSolver {
     return std::nullopt;
   }
   /// The block orderings analyze() looks up and keeps (null, the default: none).
-  void setOrderingCache(std::shared_ptr<OrderingCache> cache) { ordering_cache_ = std::move(cache); }
+  void setOrderingCache(std::shared_ptr<OrderingCache> cache) {
+    ordering_cache_ = std::move(cache);
+  }
 
  private:
   std::shared_ptr<OrderingCache> ordering_cache_;

@@ -4,19 +4,7 @@
 # behind). MODE=experiments: every coursework experiment at full length. MODE=every-step:
 # q2_c optimised after every step (long).
 #   cmake -DTOOL=... -DWORK=... -DMODE=short|experiments|every-step -P drivebot.cmake
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-function(run expect_exit expect_regex)
-  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out
-                  ERROR_VARIABLE err)
-  message("$ ${ARGN}\n${out}${err}")
-  if(NOT rc EQUAL expect_exit)
-    message(FATAL_ERROR "exit code ${rc}, expected ${expect_exit}")
-  endif()
-  if(NOT "${out}${err}" MATCHES "${expect_regex}")
-    message(FATAL_ERROR "output does not match '${expect_regex}'")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 function(expect_files dir)
   foreach(f ${ARGN})
     if(NOT EXISTS "${WORK}/${dir}/${f}")

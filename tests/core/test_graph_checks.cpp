@@ -1,17 +1,21 @@
 // SPDX-License-Identifier: MIT
-// checkConstraints (which vertices the edges cannot determine) and the optimizer's stop
-// at an optimum it starts from.
+// checkConstraints and checkObservability (which vertices the edges cannot determine, and
+// why), the optimizer's failure message naming the failing vertex's edges, and its stop at
+// an optimum it starts from.
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <random>
 
+#include "../common/range_bearing_edges.h"
 #include "graphslam/core/graph_checks.h"
+#include "graphslam/core/observability.h"
 #include "graphslam/core/optimizer.h"
+#include "graphslam/simulation/simulator.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
-#include "graphslam/simulation/simulator.h"
+#include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -43,6 +47,39 @@ void observation(Graph& g, VertexId pose, VertexId point) {
   e->setMeasurement(Eigen::Vector2d(1, 0));
   e->setInformation(Eigen::Matrix2d::Identity());
   g.addEdge(std::move(e));
+}
+
+void pose(Graph& g, VertexId id, double x, double y, bool fixed = false) {
+  add<VertexSE2>(g, id, fixed).setEstimate(SE2(x, y, 0));
+}
+
+void point(Graph& g, VertexId id, double x, double y) {
+  add<VertexXY>(g, id).setEstimate(Eigen::Vector2d(x, y));
+}
+
+template <typename E>
+void observe(Graph& g, VertexId from, VertexId landmark) {
+  auto e = std::make_unique<E>();
+  e->setVertexIds({from, landmark});
+  g.addEdge(std::move(e));
+}
+
+/// Poses 0 (fixed), 1, 2 at (0, 0), (1, 0), (2, 0) along the x axis, joined by odometry.
+Graph threePoses() {
+  Graph g;
+  pose(g, 0, 0, 0, true);
+  pose(g, 1, 1, 0);
+  pose(g, 2, 2, 0);
+  odometry(g, 0, 1);
+  odometry(g, 1, 2);
+  return g;
+}
+
+const UndeterminedVertex* find(const ObservabilityReport& r, VertexId id) {
+  for (const auto& u : r.undetermined) {
+    if (u.id == id) return &u;
+  }
+  return nullptr;
 }
 
 }  // namespace
@@ -112,4 +149,123 @@ TEST(Core_OptimizerStop, RestartAtTheOptimumStopsAtOnce) {
     EXPECT_EQ(again.status, TerminationStatus::kConverged);
     EXPECT_LE(again.iterations, 2) << again.report();
   }
+}
+
+TEST(Core_Observability, DeterminedGraphIsOk) {
+  Graph g = threePoses();
+  point(g, 10, 1, 3);  // two bearings from different directions
+  observe<test::EdgeBearingSE2XY>(g, 0, 10);
+  observe<test::EdgeBearingSE2XY>(g, 2, 10);
+  point(g, 11, 5, 1);  // a range and a bearing from one pose
+  observe<test::EdgeRangeSE2XY>(g, 1, 11);
+  observe<test::EdgeBearingSE2XY>(g, 1, 11);
+  point(g, 12, 3, 3);  // one relative position
+  observe<EdgeSE2XY>(g, 2, 12);
+  const ObservabilityReport r = checkObservability(g);
+  EXPECT_TRUE(r.ok()) << r.describe();
+  EXPECT_TRUE(r.unanchored.empty());
+}
+
+TEST(Core_Observability, NamesEachUndeterminedVertexWithItsReason) {
+  Graph g = threePoses();
+  point(g, 9, 7, 7);  // no edges
+  point(g, 10, 4, 1);
+  observe<test::EdgeRangeSE2XY>(g, 1, 10);
+  point(g, 11, 4, 2);  // two bearings from one pose
+  observe<test::EdgeBearingSE2XY>(g, 1, 11);
+  observe<test::EdgeBearingSE2XY>(g, 1, 11);
+  point(g, 12, 6, 0);  // bearings from poses on the line through it
+  observe<test::EdgeBearingSE2XY>(g, 0, 12);
+  observe<test::EdgeBearingSE2XY>(g, 2, 12);
+  point(g, 13, -3, 0);  // ranges from poses on the line through it
+  observe<test::EdgeRangeSE2XY>(g, 0, 13);
+  observe<test::EdgeRangeSE2XY>(g, 2, 13);
+  pose(g, 20, 5, 5);  // a pose seen from one landmark: 2 of its 3 directions
+  point(g, 21, 6, 5);
+  observe<EdgeSE2XY>(g, 2, 21);
+  observe<EdgeSE2XY>(g, 20, 21);
+
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  ObservabilityOptions options;
+  options.types = &types;
+  const ObservabilityReport r = checkObservability(g, options);
+  EXPECT_EQ(r.undeterminedIds(), (std::vector<VertexId>{9, 10, 11, 12, 13, 20}));
+  const auto reason = [&](VertexId id) { return find(r, id) ? find(r, id)->reason : ""; };
+  EXPECT_EQ(reason(9), "no edges");
+  EXPECT_EQ(reason(10),
+            "one range-only edge (from vertex 1): it can move on a circle around vertex 1");
+  EXPECT_EQ(reason(11),
+            "seen from one vertex (1) by bearing only: it can slide along the line of sight");
+  EXPECT_EQ(reason(12),
+            "bearing-only edges all along one line (parallel bearings) from vertices 0 and 2: it "
+            "can slide along that line");
+  EXPECT_EQ(reason(13),
+            "range-only edges from vertices 0 and 2 that all lie along one line through it: it can "
+            "move across that line");
+  EXPECT_EQ(reason(20), "its one edge (from vertex 21) determines only 2 of its 3 directions");
+  EXPECT_EQ(find(r, 10)->tag, "VERTEX_XY");
+  EXPECT_EQ(find(r, 10)->rank, 1);
+  EXPECT_EQ(find(r, 20)->neighbours, (std::vector<VertexId>{21}));
+  // The edges of each vertex, as indices into graph.edges().
+  ASSERT_EQ(find(r, 12)->edges.size(), 2u);
+  for (std::size_t k : find(r, 12)->edges) {
+    EXPECT_EQ(g.edges()[k]->vertexId(1), 12);
+  }
+  const std::string text = r.describe();
+  EXPECT_NE(
+      text.find("6 vertices are not determined by the edges:\n  vertex 9 (VERTEX_XY): no edges"),
+      std::string::npos)
+      << text;
+  // The estimates are where they were.
+  EXPECT_EQ(static_cast<const VertexXY*>(g.vertex(10))->estimate(), Eigen::Vector2d(4, 1));
+}
+
+TEST(Core_Observability, UnanchoredComponentIsInformationOnly) {
+  Graph g = threePoses();
+  pose(g, 5, 0, 0);
+  pose(g, 6, 1, 0);
+  odometry(g, 5, 6);
+  const ObservabilityReport r = checkObservability(g);
+  EXPECT_TRUE(r.ok());
+  ASSERT_EQ(r.unanchored.size(), 1u);
+  EXPECT_EQ(r.unanchored[0], (std::vector<VertexId>{5, 6}));
+  EXPECT_NE(r.describe().find("information: 1 component has no anchor"), std::string::npos)
+      << r.describe();
+}
+
+TEST(Core_Observability, ThreadCountDoesNotChangeTheReport) {
+  Graph g;
+  pose(g, 0, 0, 0, true);
+  for (int i = 1; i < 3000; ++i) {
+    pose(g, i, i, 0);
+    odometry(g, i - 1, i);
+  }
+  point(g, 5000, 10, 4);
+  observe<test::EdgeRangeSE2XY>(g, 10, 5000);
+  ObservabilityOptions one, two;
+  two.threads = 2;
+  const auto a = checkObservability(g, one), b = checkObservability(g, two);
+  EXPECT_EQ(a.undeterminedIds(), (std::vector<VertexId>{5000}));
+  EXPECT_EQ(a.describe(), b.describe());
+}
+
+// The optimizer's numerical failure names the vertex and the vertices its edges join it to,
+// and returns both (its edges as indices into graph.edges()).
+TEST(Core_OptimizerDiagnostics, FailureNamesTheVertexAndItsEdges) {
+  Graph g = threePoses();
+  point(g, 10, 4, 0);  // on the x axis from pose 1: the range sees x only, exactly
+  observe<test::EdgeRangeSE2XY>(g, 1, 10);
+  SolverRegistry solvers;
+  solvers::registerSolvers(solvers);
+  Optimizer::Options options;
+  options.algorithm = Algorithm::kGaussNewton;
+  options.linear_solver = "cholmod";
+  Optimizer optimizer(g, solvers, options);
+  const Summary s = optimizer.optimize();
+  ASSERT_EQ(s.status, TerminationStatus::kNumericalFailure);
+  EXPECT_NE(s.message.find("(at vertex 10); its edge joins it to vertex 1"), std::string::npos)
+      << s.message;
+  EXPECT_EQ(s.failed_vertex, 10);
+  EXPECT_EQ(s.failed_vertex_edges, (std::vector<std::size_t>{2}));
 }

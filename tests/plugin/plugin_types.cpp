@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // A plugin built only in the test tree: adds EDGE_SE2_RANGE, the distance between the
-// positions of two SE(2) poses, unknown to the graphslam tool until loaded with --plugin.
+// positions of two SE(2) poses, unknown to the graphslam tool until loaded with --plugin,
+// and the range-only and bearing-only landmark edges of the observability tests.
 #include <Eigen/Core>
 
+#include "../common/range_bearing_edges.h"
 #include "graphslam/core/fixed_edge.h"
 #include "graphslam/core/plugin.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
@@ -27,4 +29,5 @@ class EdgeSE2Range final : public graphslam::BaseBinaryEdge<1, double, VertexSE2
 extern "C" GRAPHSLAM_PLUGIN_EXPORT void graphslam_plugin_register(
     graphslam::TypeRegistry& types, graphslam::SolverRegistry& /*solvers*/) {
   types.registerEdge<EdgeSE2Range>("EDGE_SE2_RANGE");
+  graphslam::test::registerRangeBearingEdges(types);
 }

@@ -42,6 +42,17 @@ struct LoadOptions {
   double nearest_pd_floor = 1e-6;
   /// Refused information matrices listed line by line before the summary.
   static constexpr std::size_t kListedLines = 5;
+  /// Off (default): an edge that refers to a vertex no line has defined before it is an
+  /// error. On: such a vertex is created from the edge, of the registered vertex type its
+  /// slot accepts (Edge::acceptsVertex; when several do, the first in tag order), with the
+  /// type's default estimate (identity pose, zero point), and counted in
+  /// LoadResult::created_vertices. This reads files that hold only edges (SE-Sync's, the
+  /// KITTI pose graphs); their estimates are then the caller's business (a global
+  /// initialisation; dead reckoning from the default estimate). A vertex that an edge refers
+  /// to before its own line defines it stays an error (as g2o, which drops such edges with
+  /// "Unable to find vertices for edge"), reported at the edge's line when the vertex line
+  /// comes; in lenient mode that vertex line is skipped and the created vertex stays.
+  bool create_missing_vertices = false;
 };
 
 struct LoadResult {
@@ -59,6 +70,8 @@ struct LoadResult {
   /// (LoadOptions::information), or refused.
   std::size_t repaired_information = 0;
   std::size_t refused_information = 0;
+  /// Vertices created from edges (LoadOptions::create_missing_vertices).
+  std::size_t created_vertices = 0;
   bool failed = false;  ///< strict mode met an error; `graph` holds what was read before it
   [[nodiscard]] bool ok() const { return !failed; }
 };
@@ -69,10 +82,10 @@ struct LoadResult {
 /// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
 /// most types have neither; a type sized by its vertex count ends its ids with `|| count`,
 /// Edge::separatedCount), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
-/// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex,
-/// vertex of the wrong type, information matrix not positive definite, a parameter the type
-/// refuses. Never throws for bad data; a file that cannot be opened is reported as a diagnostic
-/// with line 0 and the system's reason.
+/// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex
+/// (unless LoadOptions::create_missing_vertices), vertex of the wrong type, information matrix not
+/// positive definite, a parameter the type refuses. Never throws for bad data; a file that cannot
+/// be opened is reported as a diagnostic with line 0 and the system's reason.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,
                                  const LoadOptions& options = {});
 /// Same, from a stream; `name` is used in diagnostics.

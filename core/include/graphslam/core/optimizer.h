@@ -114,6 +114,11 @@ struct Summary {
   /// the one the lowest id anchors: their position is undetermined (with fix_gauge, each
   /// is anchored at its first id for the run). Each holds up to 20 ids (smallest first).
   std::vector<std::vector<VertexId>> unanchored;
+  /// On a numerical failure of the factorisation: the vertex whose column failed (-1 when
+  /// the solver did not say) and its active edges, as indices into graph.edges(); the
+  /// message names both (the vertex's edges by the vertices they join it to).
+  VertexId failed_vertex = -1;
+  std::vector<std::size_t> failed_vertex_edges;
 
   [[nodiscard]] bool succeeded() const {
     return status == TerminationStatus::kConverged || status == TerminationStatus::kMaxIterations;

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// The observability check of `optimize` and `info` (core's checkObservability): which
+// vertices the edges do not determine, named with the reason and their edges' file lines.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/observability.h"
+#include "graphslam/core/type_registry.h"
+#include "input.h"
+
+namespace graphslam::apps {
+
+/// The check before solving. Every vertex determined: prints the information on unanchored
+/// components (unless `quiet`) and returns true. Otherwise, with `drop`, removes the
+/// undetermined vertices and their edges (keeping in.edge_lines in step), says how many and
+/// which, checks again (a removal may leave a vertex without edges) and returns true;
+/// without `drop`, prints the list to stderr and returns false: the caller exits 2 before
+/// iterating and writes nothing.
+[[nodiscard]] bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop,
+                                      int threads, bool quiet);
+
+/// `info`: prints the report (a list, not a failure).
+void printObservability(LoadedInput& in, const TypeRegistry& types);
+
+/// "line 12" / "lines 12, 40, ..." for edges given as indices into the graph's edges, when
+/// `edge_lines` maps them all (a .g2o input, edge_lines.size() == num_edges, no edge added
+/// since); empty otherwise.
+[[nodiscard]] std::string edgeLines(const std::vector<std::size_t>& edges,
+                                    const std::vector<std::size_t>& edge_lines,
+                                    std::size_t num_edges);
+
+}  // namespace graphslam::apps
