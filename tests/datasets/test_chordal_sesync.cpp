@@ -37,7 +37,7 @@ TEST_P(Chordal_SeSync, ReachesTheCertifiedOptimumFromTheDefaultInitialisation) {
   solvers::registerSolvers(solvers);
   io::LoadOptions load;
   load.information = c.information;
-  // load.create_missing_vertices = true;  (edges-only files: once the loader creates vertices)
+  load.create_missing_vertices = true;  // the edges-only *_sesync files
   auto res = io::loadG2o(path, types, load);
   ASSERT_TRUE(res.ok()) << res.diagnostics.at(0).str();
   init::initializeGlobal(res.graph);
