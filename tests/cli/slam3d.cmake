@@ -1,25 +1,17 @@
 # SPDX-License-Identifier: MIT
 # 3D files through the tool: cubicle's indefinite information matrices are one clear error
 # by default and are repaired on request.
-#   cmake -DTOOL=graphslam -DDATA=datasets-folder -P slam3d.cmake
+#   cmake -DTOOL=graphslam -DDATA=datasets-folder -DWORK=scratch-folder -P slam3d.cmake
 set(cubicle ${DATA}/cubicle.g2o)
 if(NOT EXISTS ${cubicle})
   message("GRAPHSLAM_SKIP: ${cubicle} not found (set GRAPHSLAM_DATA)")
   return()
 endif()
 
-function(run expect_exit regex)
-  execute_process(COMMAND ${TOOL} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL expect_exit)
-    message(FATAL_ERROR "${ARGN}: exit code ${rc}, expected ${expect_exit}\n${out}${err}")
-  endif()
-  if(NOT "${out}${err}" MATCHES "${regex}")
-    message(FATAL_ERROR "${ARGN}: output does not match '${regex}'\n${out}${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)  # run(EXIT REGEX COMMAND...)
 
 run(2 "cubicle.g2o:5753: EDGE_SE3:QUAT: information matrix is not positive definite.*cubicle.g2o: 5021 of 16869 edges have an information matrix that is not positive definite \\(the first 5 are listed above\\); --information nearest-pd or --information isotropic repairs them"
-    optimize ${cubicle})
+    ${TOOL} optimize ${cubicle})
 run(0 "5021 of 16869 information matrices were not positive definite and were repaired \\(isotropic\\).*global 3D \\(chordal\\), 5749 poses.*status: +converged.*chi2: +[0-9.]+ -> 633\\.67"
-    optimize ${cubicle} --information isotropic -q)
-run(2 "--information must be refuse, nearest-pd or isotropic, not 'psd'" optimize ${cubicle} --information psd)
+    ${TOOL} optimize ${cubicle} --information isotropic -q)
+run(2 "--information must be refuse, nearest-pd or isotropic, not 'psd'" ${TOOL} optimize ${cubicle} --information psd)
