@@ -7,7 +7,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -15,7 +14,6 @@
 
 #include "builtins.h"
 #include "cli_common.h"
-#include "graphslam/chordal/objective.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
@@ -30,6 +28,7 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
+#include "objective_options.h"
 #include "observability_check.h"
 #include "outlier_options.h"
 #include "output_set.h"
@@ -258,9 +257,7 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   options.first_step_dogleg =
       parseChoice<bool>("first-step", o.first_step, {{"dogleg", true}, {"gn", false}});
   options.algorithm = parseAlgorithm(o.algorithm);
-  if (o.objective != "g2o" && o.objective != "chordal") {
-    throw UsageError("--objective must be g2o or chordal, not '" + o.objective + "'");
-  }
+  checkObjective(o.objective);
   options.max_iterations = o.iterations;
   options.linear_solver = o.solver;
   o.quiet = vm.count("quiet") != 0;
@@ -426,23 +423,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
   const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
 
-  std::optional<chordal::ChordalObjective> chordal_objective;
-  if (o.objective == "chordal") {
-    chordal_objective.emplace(graph);
-    std::printf("objective: chordal (SE-Sync's), %zu relative-pose edges switched\n",
-                chordal_objective->switched());
-    if (chordal_objective->skipped() > 0) {
-      std::printf("  %zu edges kept in g2o's cost: their information gives no positive weight\n",
-                  chordal_objective->skipped());
-    }
-  }
+  const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
   const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
-  if (chordal_objective) {
-    std::printf("SE-Sync's f: %.10g\n", chordal_objective->value());
-    chordal_objective->restore();
-    std::printf("chi2 in g2o's cost at this estimate: %.10g\n", graph.chi2());
-  }
+  finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
     const auto final_errors = homework::positionErrors(graph, in.ground_truth);
     std::printf("position error vs ground truth (m), initial -> final:\n");

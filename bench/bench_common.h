@@ -66,8 +66,8 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The types of types_slam2d and types_slam3d and every solver of this build, the solvers sharing one cache
-/// of block orderings as the tool's do.
+/// The types of types_slam2d and types_slam3d and every solver of this build, the solvers sharing
+/// one cache of block orderings as the tool's do.
 struct Registries {
   TypeRegistry types;
   SolverRegistry solvers;

@@ -1,27 +1,17 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/chordal/objective.h"
 
-#include <Eigen/LU>
 #include <cmath>
 #include <memory>
 
 #include "graphslam/chordal/chordal_edges.h"
+#include "graphslam/core/information.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam3d/edges.h"
 
 namespace graphslam::chordal {
 
 namespace {
-
-/// k / tr(B^-1) of a k x k information block; NaN when B is singular or the trace is not
-/// positive.
-template <int K>
-double inverseTraceWeight(const Eigen::Matrix<double, K, K>& block) {
-  const Eigen::FullPivLU<Eigen::Matrix<double, K, K>> lu(block);
-  if (!lu.isInvertible()) return std::nan("");
-  const double trace = lu.inverse().trace();
-  return trace > 0.0 ? K / trace : std::nan("");
-}
 
 bool usable(double w) { return std::isfinite(w) && w > 0.0; }
 
@@ -30,7 +20,7 @@ bool usable(double w) { return std::isfinite(w) && w > 0.0; }
 std::unique_ptr<Edge> chordalEdge(const Edge& e, bool& skipped) {
   skipped = false;
   if (const auto* se2 = dynamic_cast<const types_slam2d::EdgeSE2*>(&e)) {
-    const double tau = inverseTraceWeight<2>(se2->information().topLeftCorner<2, 2>());
+    const double tau = inverseTraceWeight(se2->information().topLeftCorner<2, 2>());
     const double kappa = se2->information()(2, 2);
     if (!usable(tau) || !usable(kappa)) return skipped = true, nullptr;
     auto c = std::make_unique<EdgeSE2Chordal>();
@@ -40,8 +30,8 @@ std::unique_ptr<Edge> chordalEdge(const Edge& e, bool& skipped) {
     return c;
   }
   if (const auto* se3 = dynamic_cast<const types_slam3d::EdgeSE3*>(&e)) {
-    const double tau = inverseTraceWeight<3>(se3->information().topLeftCorner<3, 3>());
-    const double kappa = inverseTraceWeight<3>(se3->information().bottomRightCorner<3, 3>()) / 2.0;
+    const double tau = inverseTraceWeight(se3->information().topLeftCorner<3, 3>());
+    const double kappa = inverseTraceWeight(se3->information().bottomRightCorner<3, 3>()) / 2.0;
     if (!usable(tau) || !usable(kappa)) return skipped = true, nullptr;
     auto c = std::make_unique<EdgeSE3Chordal>();
     c->setVertexIds(se3->vertexIds());

@@ -3,26 +3,25 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <cmath>
 
 namespace graphslam {
 
-namespace {
-
-/// k / tr(B^-1) of a k x k block, or its diagonal's mean magnitude when that is not a
-/// positive finite number.
-double isotropicWeight(const Eigen::MatrixXd& block) {
-  const auto k = static_cast<double>(block.rows());
+double inverseTraceWeight(const Eigen::MatrixXd& block) {
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(block);
-  if (lu.isInvertible()) {
-    const double trace = lu.inverse().trace();
-    if (std::isfinite(trace) && trace > 0.0) return k / trace;
-  }
+  if (!lu.isInvertible()) return std::nan("");
+  const double trace = lu.inverse().trace();
+  return std::isfinite(trace) && trace > 0.0 ? static_cast<double>(block.rows()) / trace
+                                             : std::nan("");
+}
+
+double isotropicWeight(const Eigen::MatrixXd& block) {
+  const double w = inverseTraceWeight(block);
+  if (std::isfinite(w) && w > 0.0) return w;
   const double mean = block.diagonal().cwiseAbs().mean();
   return mean > 0.0 ? mean : 1.0;
 }
-
-}  // namespace
 
 bool repairInformation(Eigen::MatrixXd& omega, InformationRepair how, double floor) {
   const Eigen::Index d = omega.rows();

@@ -63,8 +63,8 @@ class LineParser {
   static std::size_t readSeparatedIds(const std::vector<std::string_view>& tokens,
                                       const std::string& tag, Edge& e);
   /// Sets the `count` ids after the tag on `e`; a count the type refuses is a bad line.
-  static void setVertexIds(Edge& e, const std::vector<std::string_view>& tokens,
-                           std::size_t count, const std::string& tag);
+  static void setVertexIds(Edge& e, const std::vector<std::string_view>& tokens, std::size_t count,
+                           const std::string& tag);
 
   const TypeRegistry& types_;
   const io::LoadOptions& options_;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "graphslam/core/information.h"
 #include "graphslam/types_slam3d/edges.h"
 
 namespace graphslam::init {
@@ -27,17 +28,6 @@ struct Problem3d {
   std::vector<std::pair<int, int>> ends;  ///< pose indices of each edge
   std::vector<char> anchored;             ///< per pose: its estimate is kept
 };
-
-/// 3 / tr(block^-1): the isotropic weight of an information block (SE-Sync's); for a block
-/// that is not positive definite, the mean of its diagonal's magnitudes.
-double isotropicWeight(const Eigen::Matrix3d& block) {
-  Eigen::LLT<Eigen::Matrix3d> llt(block);
-  if (llt.info() == Eigen::Success) {
-    const double trace = llt.solve(Eigen::Matrix3d::Identity()).trace();
-    if (std::isfinite(trace) && trace > 0.0) return 3.0 / trace;
-  }
-  return block.diagonal().cwiseAbs().mean();
-}
 
 Problem3d collect(Graph& graph) {
   Problem3d p;

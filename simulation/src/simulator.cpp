@@ -194,11 +194,10 @@ ManhattanSize estimateSize(const ManhattanOptions& o) {
   constexpr double kPi = 3.14159265358979323846;
   constexpr double kBytesPerPose = 1200.0;
   constexpr double kBytesPerObservation = 260.0;
-  const double side = o.world_size > 0
-                          ? o.world_size
-                          : std::max(4.0, std::floor(std::sqrt(static_cast<double>(o.num_poses)) / 2));
-  const double seen =
-      std::min(1.0, kPi * o.landmark_range * o.landmark_range / (side * side));
+  const double side =
+      o.world_size > 0 ? o.world_size
+                       : std::max(4.0, std::floor(std::sqrt(static_cast<double>(o.num_poses)) / 2));
+  const double seen = std::min(1.0, kPi * o.landmark_range * o.landmark_range / (side * side));
   ManhattanSize size;
   size.observations = static_cast<double>(o.num_poses) * o.num_landmarks * seen;
   size.bytes = kBytesPerPose * o.num_poses + kBytesPerObservation * size.observations;

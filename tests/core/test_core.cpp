@@ -18,21 +18,21 @@
 #include "../common/se2_graphs.h"
 #include "../common/test_util.h"
 #include "graphslam/core/base_multi_edge.h"
-#include "graphslam/core/internal/block_pattern.h"
 #include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/fixed_edge.h"
+#include "graphslam/core/internal/block_pattern.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
+#include "graphslam/init/initialization.h"
+#include "graphslam/simulation/simulator.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
-#include "graphslam/init/initialization.h"
 #include "graphslam/types_slam2d/register.h"
-#include "graphslam/simulation/simulator.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -233,7 +233,8 @@ TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
       {"EDGE_SE2 0 1 1 0 nan 1 0 0 1 0 1\n", 3, "is not finite"},
       {"# comment\nEDGE_FOO 0 1\n", 4, "unknown tag 'EDGE_FOO'"},
       {"\xEF\xBB\xBFVERTEX_SE2 2 0 0 0\n", 3,
-       "unknown tag '\\xEF\\xBB\\xBFVERTEX_SE2' (a UTF-8 byte-order mark: save the file without one)"},
+       "unknown tag '\\xEF\\xBB\\xBFVERTEX_SE2' (a UTF-8 byte-order mark: save the file without "
+       "one)"},
       {std::string("\x01\x02\x7f\x80\0z", 6) + "\n", 3, "unknown tag '\\x01\\x02\\x7F\\x80\\x00z'"},
       {"VERTEX_SE2 1 5 5 0\n", 3, "duplicate vertex id 1 (first defined on line 2)"},
       {"EDGE_SE2 0 7 1 0 0 1 0 0 1 0 1\n", 3, "refers to vertex 7"},
@@ -242,8 +243,10 @@ TEST(Core_IoG2o, MalformedInputNamesFileAndLine) {
       {"FIX 42\n", 3, "FIX: vertex 42 is not defined"},
       {"EDGE_SE2 0 2147483648 1 0 0 1 0 0 1 0 1\n", 3,
        "value 2 '2147483648' is out of the range of vertex ids (-2147483648 to 2147483647)"},
-      {"EDGE_SE2 0 999999999999999999999 1 0 0 1 0 0 1 0 1\n", 3, "is out of the range of vertex ids"},
-      {"EDGE_SE2 0 1 1e400 0 0 1 0 0 1 0 1\n", 3, "value 3 '1e400' is out of the range of a double"},
+      {"EDGE_SE2 0 999999999999999999999 1 0 0 1 0 0 1 0 1\n", 3,
+       "is out of the range of vertex ids"},
+      {"EDGE_SE2 0 1 1e400 0 0 1 0 0 1 0 1\n", 3,
+       "value 3 '1e400' is out of the range of a double"},
       {"EDGE_SE2_XY 0 1 1 0 1 0 1\n", 3,
        "EDGE_SE2_XY: vertex 1 has the wrong type for slot 1: it is a VERTEX_SE2, the slot takes "
        "VERTEX_XY"},
@@ -463,7 +466,8 @@ TEST(Core_IoG2o, MissingFileIsADiagnostic) {
   TypeRegistry types;
   auto r = io::loadG2o("/nonexistent/file.g2o", types);
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.diagnostics[0].str(), "/nonexistent/file.g2o: cannot open: No such file or directory");
+  EXPECT_EQ(r.diagnostics[0].str(),
+            "/nonexistent/file.g2o: cannot open: No such file or directory");
 }
 
 // --------------------------------------------------------------------------- Optimizer

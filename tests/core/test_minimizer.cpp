@@ -172,8 +172,8 @@ TEST(Minimizer_Dogleg, RejectedStepsAreRetriedOnTheSameFactorisation) {
 TEST(Minimizer_Recovery, SingularSystemConvergesWithDampingAndFailsWithoutIt) {
   for (const char* solver : {"cholmod", "eigen-llt", "block-llt"}) {
     SCOPED_TRACE(solver);
-    for (Algorithm a : {Algorithm::kGaussNewtonFallback, Algorithm::kLevenbergMarquardt,
-                        Algorithm::kDogleg}) {
+    for (Algorithm a :
+         {Algorithm::kGaussNewtonFallback, Algorithm::kLevenbergMarquardt, Algorithm::kDogleg}) {
       Graph g = rangeOnlyPoint();
       const Summary s = optimize(g, a, solver);
       EXPECT_EQ(s.status, TerminationStatus::kConverged) << toString(a) << ": " << s.message;
@@ -183,7 +183,8 @@ TEST(Minimizer_Recovery, SingularSystemConvergesWithDampingAndFailsWithoutIt) {
     const Summary gn = optimize(g, Algorithm::kGaussNewton, solver);
     EXPECT_EQ(gn.status, TerminationStatus::kNumericalFailure);
     if (std::string(solver) == "eigen-llt") continue;  // reports no column
-    EXPECT_NE(gn.message.find("(at vertex 2)"), std::string::npos) << gn.message << " / " << toString(gn.status);
+    EXPECT_NE(gn.message.find("(at vertex 2)"), std::string::npos)
+        << gn.message << " / " << toString(gn.status);
     EXPECT_NE(gn.message.find("single edge"), std::string::npos) << gn.message;
   }
 }
@@ -218,8 +219,8 @@ TEST(Minimizer_ActiveEdges, InactiveEdgesAreLeftOutOfTheOptimisation) {
   const Summary s = optimize(g, Algorithm::kLevenbergMarquardt, "cholmod");
   EXPECT_EQ(s.status, TerminationStatus::kConverged) << s.message;
   EXPECT_LT(s.final_chi2, 1e-12);  // the inactive edge's error is not in the objective
-  EXPECT_LT(g.chi2(), 1e-12);       // Graph::chi2 sums the active edges...
-  EXPECT_GT(e.chi2(), 1.0);         // ...after computing every error
+  EXPECT_LT(g.chi2(), 1e-12);      // Graph::chi2 sums the active edges...
+  EXPECT_GT(e.chi2(), 1.0);        // ...after computing every error
   // Only inactive edges: point 3 is not optimised (nothing determines it).
   addPoint(g, 3, {7, 7});
   auto lone = std::make_unique<EdgeOffset>();

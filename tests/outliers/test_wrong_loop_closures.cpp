@@ -26,7 +26,8 @@ TEST(Simulation_WrongLoopClosures, FractionCountsLoopClosuresAndEdgesLookReal) {
   const std::size_t before = s.graph.numEdges();
   std::set<std::pair<VertexId, VertexId>> joined;
   for (const auto& e : s.graph.edges()) {
-    joined.emplace(std::min(e->vertexId(0), e->vertexId(1)), std::max(e->vertexId(0), e->vertexId(1)));
+    joined.emplace(std::min(e->vertexId(0), e->vertexId(1)),
+                   std::max(e->vertexId(0), e->vertexId(1)));
   }
   WrongLoopClosureOptions o;
   o.fraction = 0.2;
@@ -60,8 +61,9 @@ TEST(Simulation_WrongLoopClosures, SameSeedSameEdgesOtherSeedOthers) {
     std::vector<std::array<double, 5>> out;
     for (std::size_t k : added.edge_indices) {
       const auto* e = static_cast<const types_slam2d::EdgeSE2*>(s.graph.edges()[k].get());
-      out.push_back({double(e->vertexId(0)), double(e->vertexId(1)), e->measurement().translation().x(),
-                     e->measurement().translation().y(), e->measurement().angle()});
+      out.push_back({double(e->vertexId(0)), double(e->vertexId(1)),
+                     e->measurement().translation().x(), e->measurement().translation().y(),
+                     e->measurement().angle()});
     }
     return out;
   };

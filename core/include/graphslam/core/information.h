@@ -13,6 +13,15 @@ enum class InformationRepair {
   kIsotropic,  ///< one weight per block: translation and rotation (or the whole matrix)
 };
 
+/// k / tr(B^-1) of a k x k information block B: the weight of the isotropic information
+/// with the same mean variance (the weights SE-Sync derives from a pose edge's blocks).
+/// NaN when B is singular or tr(B^-1) is not positive.
+[[nodiscard]] double inverseTraceWeight(const Eigen::MatrixXd& block);
+
+/// inverseTraceWeight(block), or the mean magnitude of its diagonal when that is not a
+/// positive finite number (1 for an all-zero block).
+[[nodiscard]] double isotropicWeight(const Eigen::MatrixXd& block);
+
 /// Replaces `omega` (symmetric, d x d) by a positive definite matrix as `how` says;
 /// returns false for kRefuse (nothing changed).
 ///  - kNearestPd: eigenvalues below `floor` times the largest magnitude among them are set
