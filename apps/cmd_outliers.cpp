@@ -77,7 +77,8 @@ int cmdAddOutliers(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, o.plugins);
   LoadedInput in = loadInput(o.input, reg.types);
-  if (in.format != "g2o") throw UsageError("add-outliers reads .g2o files only, not " + o.input);
+  if (in.format == "npz")
+    throw UsageError("add-outliers reads .g2o, TORO or iSAM graphs, not " + o.input);
   Graph& graph = in.graph;
   const auto added = simulation::addWrongLoopClosures(graph, o.wrong);
   io::saveG2o(o.output, graph, reg.types);

@@ -445,8 +445,29 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
 // ---------------------------------------------------------------------------------------
 // convert
 
+namespace {
+/// convert from TORO or iSAM text: the graph in g2o's tags, created vertices initialised.
+int convertToG2o(const std::string& input, const std::string& output, formats::TextFormat format,
+                 const Registries& reg) {
+  if (!endsWith(output, ".g2o")) {
+    throw UsageError(std::string("a ") + formats::displayName(format) +
+                     " file converts to a .g2o file");
+  }
+  InputOptions options;
+  options.text_format = formats::toString(format);
+  LoadedInput in = loadInput(input, reg.types, options);
+  std::printf("read %s: %s\n", input.c_str(), in.description.c_str());
+  for (const auto& note : in.notes) std::printf("%s\n", note.c_str());
+  initializeCreatedVertices(in, in.graph, reg.solvers);
+  io::saveG2o(output, in.graph, reg.types);
+  std::printf("wrote %s: %zu vertices, %zu edges\n", output.c_str(), in.graph.numVertices(),
+              in.graph.numEdges());
+  return kExitOk;
+}
+}  // namespace
+
 int cmdConvert(const std::vector<std::string>& args) {
-  std::string input, output, format = "auto";
+  std::string input, output, format = "auto", from = "auto";
   std::vector<double> info;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")(
@@ -458,7 +479,9 @@ int cmdConvert(const std::vector<std::string>& args) {
       "matrix input: the last column is odometry too, not a loop closure to pose 0")(
       "information", po::value(&info)->multitoken(),
       "matrix input: I11 I12 I13 I22 I23 I33 of every edge (default identity)")(
-      "format", po::value(&format)->default_value("auto"), "trajectory output: auto, tum or kitti");
+      "format", po::value(&format)->default_value("auto"), "trajectory output: auto, tum or kitti")(
+      "from", po::value(&from)->default_value("auto"),
+      "input that is not .g2o or .npz: auto (from its tags), toro, isam or matrix");
   po::positional_options_description pos;
   pos.add("input", 1).add("output", 1);
   const auto vm = parse(args, desc, &pos);
@@ -470,11 +493,16 @@ int cmdConvert(const std::vector<std::string>& args) {
         "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
         "pose 0)\n"
         "  .g2o -> TUM/KITTI: the VERTEX_SE2 / VERTEX_SE3:QUAT estimates as a trajectory "
-        "(timestamp = id)",
+        "(timestamp = id)\n"
+        "  TORO (VERTEX2/EDGE2, VERTEX3/EDGE3) or iSAM 2D -> .g2o: the graph in g2o's tags; "
+        "vertices the file lacks are created and initialised",
         desc);
     return kExitOk;
   }
   if (input.empty() || output.empty()) throw UsageError("convert needs IN and OUT");
+  if (from != "auto" && from != "toro" && from != "isam" && from != "matrix") {
+    throw UsageError("--from must be auto, toro, isam or matrix, not '" + from + "'");
+  }
   Registries reg;
   loadRegistries(reg, {});
   if (endsWith(input, ".npz")) {
@@ -495,6 +523,13 @@ int cmdConvert(const std::vector<std::string>& args) {
     saveTrajectory(output, t, format);
     std::printf("wrote %s: %zu poses\n", output.c_str(), t.size());
     return kExitOk;
+  }
+  if (from != "matrix") {
+    const formats::TextFormat text_format =
+        from == "auto" ? formats::detectFileFormat(input) : parseTextFormat(from);
+    if (text_format != formats::TextFormat::kG2o) {
+      return convertToG2o(input, output, text_format, reg);
+    }
   }
   if (!endsWith(output, ".g2o")) throw UsageError("a relative-pose matrix converts to a .g2o file");
   homework::RelativePoseGraphOptions options;

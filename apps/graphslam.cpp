@@ -520,7 +520,7 @@ constexpr const char* kMainUsage =
     "  simulate       write a synthetic Manhattan-world graph with ground truth\n"
     "  eval           trajectory error: eval ape|rpe REF EST (evo's definitions)\n"
     "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"
-    "  convert        relative-pose matrix -> .g2o pose graph; .g2o -> TUM / KITTI\n"
+    "  convert        TORO / iSAM / relative-pose matrix -> .g2o; .g2o -> TUM / KITTI\n"
     "  info           counts, components, fixed vertices, sparsity picture of H\n"
     "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"

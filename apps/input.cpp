@@ -5,16 +5,45 @@
 #include <cctype>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 #include "cli_common.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/io_g2o.h"
+#include "graphslam/formats/text_format.h"
 #include "graphslam/init/chordal3d.h"
 #include "graphslam/init/initialization.h"
 
 namespace graphslam::apps {
 
 namespace {
+std::string joinDiagnostics(const std::vector<io::Diagnostic>& diagnostics) {
+  std::string all;
+  for (const auto& d : diagnostics) all += (all.empty() ? "" : "\n") + d.str();
+  return all;
+}
+
+/// A TORO or iSAM file: translated to .g2o text (line for line) and read from it.
+io::LoadResult loadTranslated(const std::string& path, formats::TextFormat format,
+                              const TypeRegistry& types, const io::LoadOptions& options,
+                              LoadedInput& in) {
+  const formats::Translation t = formats::translate(formats::readText(path), path, format);
+  if (!t.ok()) throw InputError(joinDiagnostics(t.diagnostics));
+  in.description = std::string(formats::displayName(format)) +
+                   " graph, read as .g2o: " + std::to_string(t.vertices) + " vertex lines, " +
+                   std::to_string(t.edges) + " edge lines";
+  if (format == formats::TextFormat::kIsam) {
+    in.notes.push_back(
+        "iSAM square-root information R read as information R^T R" +
+        std::string(t.landmark_id_offset == 0
+                        ? ""
+                        : "; landmark ids collide with pose ids: landmark l is vertex l + " +
+                              std::to_string(t.landmark_id_offset)));
+  }
+  std::istringstream text(t.g2o);
+  return io::readG2o(text, path, types, options);
+}
+
 bool hasExtension(const std::string& path, const std::string& ext) {
   if (path.size() < ext.size()) return false;
   return std::equal(ext.rbegin(), ext.rend(), path.rbegin(), [](char a, char b) {
@@ -38,6 +67,14 @@ InformationRepair parseInformationRepair(const std::string& text) {
   if (text == "nearest-pd") return InformationRepair::kNearestPd;
   if (text == "isotropic") return InformationRepair::kIsotropic;
   throw UsageError("--information must be refuse, nearest-pd or isotropic, not '" + text + "'");
+}
+
+formats::TextFormat parseTextFormat(const std::string& text) {
+  for (auto f :
+       {formats::TextFormat::kG2o, formats::TextFormat::kToro, formats::TextFormat::kIsam}) {
+    if (text == formats::toString(f)) return f;
+  }
+  throw UsageError("the input format must be auto, g2o, toro or isam, not '" + text + "'");
 }
 
 void checkInitChoice(const std::string& init) {
@@ -122,16 +159,20 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
   load_options.threads = options.threads;
   load_options.information = options.information;
   load_options.create_missing_vertices = options.create_missing_vertices;
-  auto loaded = io::loadG2o(path, types, load_options);
-  if (!loaded.ok()) {
-    std::string all;
-    for (const auto& d : loaded.diagnostics) all += (all.empty() ? "" : "\n") + d.str();
-    throw InputError(all);
+  const formats::TextFormat text_format = options.text_format == "auto"
+                                              ? formats::detectFileFormat(path)
+                                              : parseTextFormat(options.text_format);
+  io::LoadResult loaded;
+  if (text_format == formats::TextFormat::kG2o) {
+    loaded = io::loadG2o(path, types, load_options);
+    in.description = ".g2o graph";
+  } else {
+    loaded = loadTranslated(path, text_format, types, load_options, in);
   }
-  in.format = "g2o";
+  if (!loaded.ok()) throw InputError(joinDiagnostics(loaded.diagnostics));
+  in.format = formats::toString(text_format);
   in.graph = std::move(loaded.graph);
   in.edge_lines = std::move(loaded.edge_lines);
-  in.description = ".g2o graph";
   if (loaded.repaired_information > 0) {
     in.notes.push_back(
         std::to_string(loaded.repaired_information) + " of " + std::to_string(in.graph.numEdges()) +

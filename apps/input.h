@@ -10,7 +10,9 @@
 // Formats, by extension (case-insensitive):
 //   .npz  a CMU 16-833 HW3 homework archive (types_slam2d/coursework_npz.h): point robot,
 //         poses 0..P-1 then landmarks P..P+L-1, the homework's initial guess, ground truth;
-//   else  a .g2o file read through the type registry (no ground truth).
+//   else  a .g2o file read through the type registry (no ground truth), or a TORO or iSAM
+//         file (formats/text_format.h: recognised by its tags), translated to .g2o text
+//         and read the same way.
 #pragma once
 
 #include <string>
@@ -20,6 +22,7 @@
 #include "graphslam/core/information.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/formats/text_format.h"
 #include "graphslam/homework/coursework_npz.h"
 #include "graphslam/homework/point_ground_truth.h"
 
@@ -36,7 +39,12 @@ struct InputOptions {
   /// Vertices that no line defines are created from the edges (io::LoadOptions::
   /// create_missing_vertices): the tool reads edges-only files (SE-Sync's, KITTI's).
   bool create_missing_vertices = true;
+  /// Text input format: auto (formats::detectFileFormat), g2o, toro or isam.
+  std::string text_format = "auto";
 };
+
+/// Parses g2o|toro|isam; throws UsageError otherwise.
+[[nodiscard]] formats::TextFormat parseTextFormat(const std::string& text);
 
 /// Parses refuse|nearest-pd|isotropic (--information); throws UsageError otherwise.
 [[nodiscard]] InformationRepair parseInformationRepair(const std::string& text);
@@ -45,7 +53,7 @@ struct InputOptions {
 struct LoadedInput {
   Graph graph;
   std::string path;
-  std::string format;                       ///< "g2o" or "npz"
+  std::string format;                       ///< "g2o", "toro", "isam" or "npz"
   std::string description;                  ///< one line on what was read (for the user)
   std::vector<std::string> notes;           ///< further lines worth printing (model choice, ...)
   homework::PointGroundTruth ground_truth;  ///< empty unless the file has one
