@@ -15,12 +15,14 @@
 namespace graphslam::apps {
 
 int cmdInfo(const std::vector<std::string>& args) {
-  std::string input, plot;
+  std::string input, plot, information = "refuse";
   std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input),
                                                  "input .g2o file or CMU 16-833 homework .npz")(
       "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
+      "information", po::value(&information)->default_value("refuse"),
+      "edges whose information is not positive definite: refuse, nearest-pd or isotropic")(
       "plugin", po::value(&plugins)->composing(),
       "load types from this shared library (repeatable)");
   po::positional_options_description pos;
@@ -28,7 +30,7 @@ int cmdInfo(const std::vector<std::string>& args) {
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png]\n"
+        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png] [--information MODE]\n"
         "Counts per type, connected components, fixed vertices, the vertices the edges do not\n"
         "determine (with the reason), and the sparsity of H.",
         desc);
@@ -37,7 +39,9 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (input.empty()) throw UsageError("info needs an input file");
   Registries reg;
   loadRegistries(reg, plugins);
-  LoadedInput in = loadInput(input, reg.types);
+  InputOptions input_options;
+  input_options.information = parseInformationRepair(information);
+  LoadedInput in = loadInput(input, reg.types, input_options);
   const Graph& graph = in.graph;
   if (in.format != "g2o" || !in.notes.empty()) {
     std::printf("%s: %s\n", input.c_str(), in.description.c_str());
