@@ -447,6 +447,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
+  if (!checkUndampedAtResult(in, summary, reg.solvers)) {
+    outputs.abort();
+    exitWithoutFreeing(kExitFailed);
+  }
   exitWithoutFreeing(
       writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
 }

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "observability_check.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <unordered_set>
+
+#include "graphslam/core/marginals.h"
 
 namespace graphslam::apps {
 
@@ -101,6 +104,38 @@ bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop_th
   }
   if (!quiet && !r.unanchored.empty()) std::cout << r.describeUnanchored() << "\n";
   return true;
+}
+
+bool checkUndampedAtResult(LoadedInput& in, const Summary& summary,
+                           const SolverRegistry& solvers) {
+  if (!summary.succeeded()) return true;
+  for (const IterationStats& it : summary.per_iteration) {
+    if (it.undamped) return true;  // H factorised undamped: it was positive definite there
+  }
+  MarginalCovariance::Options options;
+  options.solvers = &solvers;
+  MarginalCovariance marginals(options);
+  const MarginalSummary check = marginals.compute(in.graph, {});
+  if (check.ok()) return true;
+  std::cerr << (in.path.empty() ? std::string("graph") : in.path) << ": " << toString(summary.status)
+            << " by " << toString(summary.algorithm)
+            << ", but H is singular at the result (the damping hid it): " << check.message
+            << "\n";
+  for (VertexId id : check.bad_vertices) {
+    const Vertex* v = in.graph.vertex(id);
+    if (v == nullptr) continue;
+    std::vector<std::size_t> edges;
+    for (std::size_t k = 0; k < in.graph.numEdges(); ++k) {
+      const VertexIdView ids = in.graph.edges()[k]->vertexIds();
+      if (std::find(ids.begin(), ids.end(), id) != ids.end()) edges.push_back(k);
+    }
+    const std::string lines = edgeLines(edges, in.edge_lines, in.graph.numEdges());
+    if (!lines.empty()) std::cerr << "vertex " << id << ": edges on " << lines << "\n";
+  }
+  std::cerr << "its estimate is arbitrary along the undetermined directions; not writing "
+               "outputs (--drop-unobservable does not find joint degeneracies: remove or "
+               "constrain the vertices named)\n";
+  return false;
 }
 
 void printObservability(LoadedInput& in, const TypeRegistry& types) {

@@ -9,6 +9,7 @@
 
 #include "graphslam/core/graph.h"
 #include "graphslam/core/observability.h"
+#include "graphslam/core/optimizer.h"
 #include "graphslam/core/type_registry.h"
 #include "input.h"
 
@@ -22,6 +23,16 @@ namespace graphslam::apps {
 /// iterating and writes nothing.
 [[nodiscard]] bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop,
                                       int threads, bool quiet);
+
+/// After a successful run in which no iteration factorised the undamped H (IterationStats::
+/// undamped: Levenberg-Marquardt, a fallback after a failed Gauss-Newton step, regularised
+/// dogleg steps; damping hides a singular H): factorises H at the result once
+/// (MarginalCovariance, whose failure names the vertex). Returns true when H is positive
+/// definite or an iteration already showed it; otherwise prints the
+/// vertex, its edges' file lines and why to stderr and returns false: the estimate of those
+/// vertices is arbitrary, and the caller exits 1 writing nothing.
+[[nodiscard]] bool checkUndampedAtResult(LoadedInput& in, const Summary& summary,
+                                         const SolverRegistry& solvers);
 
 /// `info`: prints the report (a list, not a failure).
 void printObservability(LoadedInput& in, const TypeRegistry& types);

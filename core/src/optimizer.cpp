@@ -322,6 +322,7 @@ void Optimizer::recordIteration(Summary& summary, IterationStats& st, const deta
   st.lambda = r.kind == Kind::kAccepted ? r.lambda : 0.0;
   st.step_norm = r.kind == Kind::kAccepted || r.kind == Kind::kRestarted ? r.step_norm : 0.0;
   st.accepted = r.kind == Kind::kAccepted || r.kind == Kind::kRestarted;
+  st.undamped = r.undamped;
   st.elapsed = seconds(t_start, Clock::now());
   summary.time += st.time;
   summary.per_iteration.push_back(st);

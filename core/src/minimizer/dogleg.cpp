@@ -40,6 +40,7 @@ StepResult Dogleg::step(StepContext& ctx) {
     result.kind = StepResult::Kind::kFailed;
     return result;
   }
+  result.undamped = result.lambda == 0.0;
   if (!path_.build(im.structure, im.dx)) {
     result.kind = StepResult::Kind::kConverged;
     result.message = "the gradient vanishes";

@@ -41,6 +41,7 @@ StepResult GaussNewtonFallback::undampedStep(StepContext& ctx) {
       cost = firstStepDogleg(ctx, cost);
     }
   }
+  result.undamped = true;  // the factorisation of this step, or of the one a chord step reuses
   const double model_decrease = modelDecrease(ctx.im);
   result.step_norm = norm(ctx.im.dx);
   non_improving_ = (std::isfinite(cost) && cost < best_cost_) ? 0 : non_improving_ + 1;

@@ -40,6 +40,9 @@ struct StepResult {
   /// False when the convergence test must not stop here (the default's undamped phase
   /// above its best point).
   bool may_stop = true;
+  /// The iteration factorised the undamped H successfully (a Gauss-Newton step, a chord
+  /// step on such a factorisation, dogleg's unregularised Gauss-Newton point).
+  bool undamped = false;
   LinearSolverResult solver;
   std::string message;
 };

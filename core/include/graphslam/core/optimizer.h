@@ -78,6 +78,10 @@ struct IterationStats {
   /// Trust radius of the dogleg algorithm's step (D-norm, D = diag(H)); 0 otherwise.
   double trust_radius = 0.0;
   bool accepted = true;  ///< false when LM found no decreasing step
+  /// The iteration factorised the undamped H successfully (Gauss-Newton, a chord step on
+  /// such a factorisation, dogleg's unregularised Gauss-Newton point): H was positive
+  /// definite there. Never for Levenberg-Marquardt, whose H is damped.
+  bool undamped = false;
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
 };
