@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// graphslam and Ceres side by side on one .g2o file (EDGE_SE2 / EDGE_SE2_XY graphs): both
+// graphslam and Ceres side by side on one .g2o file (EDGE_SE2 / EDGE_SE2_XY graphs, and
+// EDGE_SE3:QUAT pose graphs): both
 // start from the same estimates (the file's, after the tool's default global
 // initialisation), both keep the same vertex fixed (the file's FIX, else graphslam's gauge
 // rule: the lowest id), and both final states are scored by graphslam's Graph::chi2().
@@ -19,17 +20,20 @@
 #include "graphslam/core/optimizer.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
+#include "graphslam/types_slam3d/edges.h"
 
 using namespace graphslam;
 using types_slam2d::EdgeSE2;
 using types_slam2d::EdgeSE2XY;
+using types_slam3d::EdgeSE3;
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: graphslam_ceres_compare FILE.g2o [--repeats N] [--threads N] [--max-iterations N]\n"
     "                               [--check-rel TOL] [--target CHI2]\n"
-    "Optimises FILE (EDGE_SE2 and EDGE_SE2_XY edges only) with graphslam's default options and\n"
+    "Optimises FILE (EDGE_SE2, EDGE_SE2_XY or EDGE_SE3:QUAT edges only) with graphslam's default\n"
+    "options and\n"
     "with Ceres (Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SuiteSparse, autodiff costs with\n"
     "graphslam's error definitions whitened by the upper Cholesky factor of the information),\n"
     "both from the same globally initialised estimates, --repeats times (default 1; times are\n"
@@ -98,6 +102,34 @@ struct Se2XyCost {
   Eigen::Matrix2d u;
 };
 
+/// EDGE_SE3:QUAT (types_slam3d/edges.h): e = compact(Z^-1 (X_i^-1 X_j)), the translation and
+/// the vector part of the quaternion with a non-negative scalar part; residual U e. A pose's
+/// parameter block is x y z qx qy qz qw (its .g2o numbers), on Ceres' product manifold of
+/// R^3 and Eigen's quaternion.
+struct Se3Cost {
+  Se3Cost(const geometry::SE3& z, const Eigen::Matrix<double, 6, 6>& sqrt_info)
+      : z_q(z.so3().quaternion()), z_t(z.translation()), u(sqrt_info) {}
+
+  template <typename T>
+  bool operator()(const T* xi, const T* xj, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ti(xi), tj(xj);
+    const Eigen::Map<const Eigen::Quaternion<T>> qi(xi + 3), qj(xj + 3);
+    const Eigen::Quaternion<T> zq_inv = z_q.conjugate().cast<T>();
+    Eigen::Quaternion<T> dq = zq_inv * (qi.conjugate() * qj);
+    const Eigen::Matrix<T, 3, 1> dt = zq_inv * (qi.conjugate() * (tj - ti) - z_t.cast<T>());
+    if (dq.w() < T(0)) dq.coeffs() = -dq.coeffs();
+    Eigen::Matrix<T, 6, 1> e;
+    e << dt, dq.vec();
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r = u.cast<T>() * e;
+    return true;
+  }
+
+  Eigen::Quaterniond z_q;
+  Eigen::Vector3d z_t;
+  Eigen::Matrix<double, 6, 6> u;
+};
+
 /// Upper Cholesky factor U of a positive definite information matrix: U^T U = Omega.
 template <int N>
 Eigen::Matrix<double, N, N> upperFactor(const Eigen::Matrix<double, N, N>& omega) {
@@ -152,9 +184,21 @@ CeresRun solveWithCeres(Graph& graph, const TypeRegistry& types, ceres::Solver::
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Se2XyCost, 2, 3, 2>(new Se2XyCost(
                                    e->measurement(), upperFactor<2>(e->information()))),
                                nullptr, block(*e->vertex(0)), block(*e->vertex(1)));
+    } else if (const auto* e = dynamic_cast<const EdgeSE3*>(edge.get())) {
+      double* pi = block(*e->vertex(0));
+      double* pj = block(*e->vertex(1));
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Se3Cost, 6, 7, 7>(
+                                   new Se3Cost(e->measurement(), upperFactor<6>(e->information()))),
+                               nullptr, pi, pj);
+      for (double* p : {pi, pj}) {
+        if (!problem.HasManifold(p)) {
+          problem.SetManifold(p, new ceres::ProductManifold<ceres::EuclideanManifold<3>,
+                                                            ceres::EigenQuaternionManifold>());
+        }
+      }
     } else {
       const std::string* tag = types.tagOf(*edge);
-      throw bench::BadInput("ceres_compare handles EDGE_SE2 and EDGE_SE2_XY only, not " +
+      throw bench::BadInput("ceres_compare handles EDGE_SE2, EDGE_SE2_XY and EDGE_SE3:QUAT only, not " +
                             (tag ? *tag : std::string("an unregistered edge type")) +
                             " (edge of vertex " + std::to_string(edge->vertexId(0)) + ")");
     }
