@@ -47,13 +47,18 @@ int simulate3d(const std::string& shape, const simulation::ManhattanOptions& sim
   } else {
     throw UsageError("--3d must be sphere or grid, not '" + shape + "'");
   }
-  if (sim.num_landmarks > 0) {
-    throw UsageError("--landmarks: 3D graphs are pose graphs only (points are not simulated yet)");
-  }
   // About 1.3 kB per pose and 2.5 edges per pose; refused beyond a quarter of a billion.
   constexpr int kMaxPoses = 250000000;
   if (sim.num_poses > kMaxPoses) throw UsageError("--poses: at most 250000000 in 3D");
+  // Every point is tested against every pose (simulatePoseGraph3d): bounded like the poses.
+  constexpr long long kMaxPointPoseTests = 20000000000LL;
+  if (static_cast<long long>(sim.num_landmarks) * sim.num_poses > kMaxPointPoseTests) {
+    throw UsageError(
+        "--landmarks x --poses: at most 2e10 in 3D (each point is placed against "
+        "every pose)");
+  }
   o.num_poses = sim.num_poses;
+  o.num_points = sim.num_landmarks;
   o.seed = sim.seed;
   Registries reg;
   loadRegistries(reg, {});
@@ -61,11 +66,16 @@ int simulate3d(const std::string& shape, const simulation::ManhattanOptions& sim
   io::saveG2o(output, result.graph, reg.types);
   std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
             << result.graph.numEdges() << " edges (" << result.num_loop_closures
-            << " loop closures)\n";
+            << " loop closures, " << result.num_point_observations << " point observations)\n";
   if (!truth.empty()) {
     for (int i = 0; i < o.num_poses; ++i) {
       static_cast<types_slam3d::VertexSE3*>(result.graph.vertex(i))
           ->setEstimate(result.true_poses[static_cast<std::size_t>(i)]);
+    }
+    for (std::size_t m = 0; m < result.true_points.size(); ++m) {
+      static_cast<types_slam3d::VertexPointXYZ*>(
+          result.graph.vertex(o.num_poses + static_cast<int>(m)))
+          ->setEstimate(result.true_points[m]);
     }
     io::saveG2o(truth, result.graph, reg.types);
     std::cout << "wrote " << truth << " (ground truth)\n";
@@ -89,7 +99,8 @@ int cmdSimulate(const std::vector<std::string>& args) {
       "side of the square world in grid cells (0: automatic)")(
       "3d", po::value(&shape3d),
       "an SE(3) pose graph instead: sphere (rings of poses, loop closures between rings) or "
-      "grid (a snake through a cubic lattice, loop closures to lattice neighbours)");
+      "grid (a snake through a cubic lattice, loop closures to lattice neighbours); "
+      "--landmarks adds 3D points seen from the poses within 15 m (EDGE_SE3_TRACKXYZ)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(

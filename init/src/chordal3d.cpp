@@ -203,6 +203,26 @@ bool solveTranslations(const Problem3d& p, const std::vector<int>& col, int free
   return true;
 }
 
+/// Places every non-fixed VERTEX_TRACKXYZ that an EDGE_SE3_TRACKXYZ observes from a placed
+/// pose, from its first such observation: p = X P z. Returns the number placed.
+std::size_t placePoints(Graph& graph) {
+  std::size_t placed = 0;
+  for (const auto& [id, v] : graph.vertices()) {
+    auto* point = dynamic_cast<types_slam3d::VertexPointXYZ*>(v.get());
+    if (point == nullptr || point->fixed()) continue;
+    for (const Edge* e : point->edges()) {
+      const auto* obs = dynamic_cast<const types_slam3d::EdgeSE3PointXYZ*>(e);
+      if (obs == nullptr || !obs->active() || obs->vertexId(1) != id) continue;
+      const auto& pose = static_cast<const VertexSE3&>(*obs->vertex(0));
+      point->setEstimate(pose.estimate() *
+                         (obs->typedParameter<0>().offset() * obs->measurement()));
+      ++placed;
+      break;
+    }
+  }
+  return placed;
+}
+
 }  // namespace
 
 InitializationReport initializeChordal3d(Graph& graph) {
@@ -233,6 +253,7 @@ InitializationReport initializeChordal3d(Graph& graph, LinearSolver* solver) {
     p.poses[i]->setEstimate(SE3(geometry::SO3::fromMatrix(rotations[c]), translations[c]));
     ++report.poses;
   }
+  report.landmarks = placePoints(graph);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

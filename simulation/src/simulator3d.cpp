@@ -8,6 +8,7 @@
 
 #include "graphslam/core/error.h"
 #include "graphslam/types_slam3d/edges.h"
+#include "graphslam/types_slam3d/parameter_se3_offset.h"
 
 namespace graphslam::simulation {
 
@@ -76,6 +77,77 @@ void gridPoses(const PoseGraph3dOptions& o, std::vector<SE3>& poses, std::vector
   }
 }
 
+/// The poses within `range` of `p`, by id.
+std::vector<int> posesInRange(const std::vector<SE3>& poses, const Eigen::Vector3d& p,
+                              double range) {
+  std::vector<int> near;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if ((poses[k].translation() - p).norm() <= range) near.push_back(static_cast<int>(k));
+  }
+  return near;
+}
+
+/// Adds the points of PoseGraph3dOptions::num_points, their observations and the sensor
+/// offset parameter they refer to.
+void addPoints(const PoseGraph3dOptions& o, std::mt19937& rng, SimulatedGraph3d& out) {
+  if (o.num_points <= 0) return;
+  Eigen::Vector3d lo = out.true_poses[0].translation(), hi = lo;
+  for (const SE3& x : out.true_poses) {
+    lo = lo.cwiseMin(x.translation());
+    hi = hi.cwiseMax(x.translation());
+  }
+  lo.array() -= o.point_range;
+  hi.array() += o.point_range;
+  auto sensor = std::make_unique<types_slam3d::ParameterSE3Offset>();
+  sensor->setId(0);
+  sensor->setValue(SE3());
+  out.graph.addParameter(std::move(sensor));
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, o.sigma_point);
+  const Eigen::Matrix3d info = Eigen::Matrix3d::Identity() / (o.sigma_point * o.sigma_point);
+  const int first_id = static_cast<int>(out.true_poses.size());
+  for (int m = 0; m < o.num_points; ++m) {
+    Eigen::Vector3d p;
+    std::vector<int> seen_from;
+    for (int draw = 0;; ++draw) {
+      if (draw == o.max_point_draws) {
+        throw Error("simulatePoseGraph3d: no place for point " + std::to_string(m) + " seen from " +
+                    std::to_string(o.min_observations) + " poses within " +
+                    std::to_string(o.point_range) + " m after " +
+                    std::to_string(o.max_point_draws) + " draws (raise point_range)");
+      }
+      for (int k = 0; k < 3; ++k) p[k] = lo[k] + (hi[k] - lo[k]) * u01(rng);
+      seen_from = posesInRange(out.true_poses, p, o.point_range);
+      if (static_cast<int>(seen_from.size()) >= o.min_observations) break;
+    }
+    out.true_points.push_back(p);
+    const VertexId id = first_id + m;
+    auto v = std::make_unique<types_slam3d::VertexPointXYZ>();
+    v->setId(id);
+    bool placed = false;
+    std::vector<std::unique_ptr<Edge>> edges;
+    for (int k : seen_from) {
+      const SE3& x = out.true_poses[static_cast<std::size_t>(k)];
+      const Eigen::Vector3d z =
+          x.inverse() * p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      if (!placed) {  // from the first observation, seen from the pose's estimate
+        const auto& pose = static_cast<const types_slam3d::VertexSE3&>(*out.graph.vertex(k));
+        v->setEstimate(pose.estimate() * z);
+        placed = true;
+      }
+      auto e = std::make_unique<types_slam3d::EdgeSE3PointXYZ>();
+      e->setVertexIds({k, id});
+      e->setParameterId(0, 0);
+      e->setMeasurement(z);
+      e->setInformation(info);
+      edges.push_back(std::move(e));
+    }
+    out.graph.addVertex(std::move(v));
+    for (auto& e : edges) out.graph.addEdge(std::move(e));
+    out.num_point_observations += edges.size();
+  }
+}
+
 }  // namespace
 
 SimulatedGraph3d simulatePoseGraph3d(const PoseGraph3dOptions& o) {
@@ -125,6 +197,7 @@ SimulatedGraph3d simulatePoseGraph3d(const PoseGraph3dOptions& o) {
     addEdge(i, j, measure(i, j));
     ++out.num_loop_closures;
   }
+  addPoints(o, rng, out);
   return out;
 }
 

@@ -18,8 +18,9 @@ namespace graphslam::init {
 ///     tau = 3 / tr(Omega_t^-1) (the weights SE-Sync derives from the information).
 /// Fixed vertices anchor the solution; a connected group without one keeps its lowest-id
 /// pose where it is (so the result stays in the caller's frame). Replaces the estimates of
-/// every other VertexSE3 reached by an active EDGE_SE3:QUAT; other vertices and edge types
-/// are left alone. Works on graphs whose estimates are all identity (edges-only files).
+/// every other VertexSE3 reached by an active EDGE_SE3:QUAT; then places every non-fixed
+/// VERTEX_TRACKXYZ from its first EDGE_SE3_TRACKXYZ observation (InitializationReport::
+/// landmarks); other vertices and edge types are left alone. Works on graphs whose estimates are all identity (edges-only files).
 /// Both systems are solved with Eigen's simplicial LDL^T (AMD ordering).
 InitializationReport initializeChordal3d(Graph& graph);
 
