@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// SO(3) and SE(3): exp/log round trips, Jacobians against numeric derivatives, near the
+// SO(3), SE(3) and SE(2): exp/log round trips, Jacobians against numeric derivatives, near the
 // identity and near pi.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
+#include "graphslam/geometry/se2.h"
 #include "graphslam/geometry/se3.h"
 
 using namespace graphslam::geometry;
@@ -148,6 +149,62 @@ TEST(Geometry_SE3, JacobiansMatchNumericDerivatives) {
     }
     EXPECT_LT((rightJacobianSE3(xi) - jr_num).cwiseAbs().maxCoeff(), 1e-7) << xi.transpose();
     EXPECT_LT((leftJacobianSE3(xi) - jl_num).cwiseAbs().maxCoeff(), 1e-7) << xi.transpose();
+  }
+}
+
+/// Angles of the three regimes for SE(2): tiny (series), ordinary, and within 1e-7 of pi.
+std::vector<double> testAngles(std::mt19937& rng) {
+  std::vector<double> out{0.0};
+  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  for (int i = 0; i < 50; ++i) {
+    out.push_back(angle(rng));
+    out.push_back(1e-4 * angle(rng));
+    out.push_back(1e-9 * angle(rng));
+    out.push_back(std::copysign(kPi - 1e-7 * std::abs(angle(rng)), angle(rng)));
+  }
+  return out;
+}
+
+TEST(Geometry_SE2, GroupAxiomsAndExpLog) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-5, 5);
+  for (double theta : testAngles(rng)) {
+    const Eigen::Vector3d xi(u(rng), u(rng), theta);
+    const SE2 a = SE2::exp(xi);
+    EXPECT_LT((a.log() - xi).norm(), 1e-11 * (1 + xi.norm())) << xi.transpose();
+    const SE2 id = a * a.inverse();
+    EXPECT_LT(id.translation().norm(), 1e-13);
+    EXPECT_LT(std::abs(id.angle()), 1e-15);
+    const Eigen::Vector3d x(0.1, -0.2, 0.03);
+    const SE2 lhs = a * SE2::exp(x) * a.inverse();
+    EXPECT_LT((lhs.log() - a.adjoint() * x).norm(), 1e-12) << xi.transpose();
+  }
+  // exp of a pure translation, and of a quarter turn: the arc's chord.
+  EXPECT_LT((SE2::exp({1, 2, 0}).translation() - Eigen::Vector2d(1, 2)).norm(), 1e-16);
+  const SE2 quarter = SE2::exp({kPi / 2, 0, kPi / 2});
+  EXPECT_LT((quarter.translation() - Eigen::Vector2d(1, 1)).norm(), 1e-15);
+}
+
+TEST(Geometry_SE2, JacobiansMatchNumericDerivatives) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2, 2);
+  const double h = 1e-6;
+  for (double theta : testAngles(rng)) {
+    if (std::abs(theta) > kPi - 1e-3) continue;
+    const Eigen::Vector3d xi(u(rng), u(rng), theta);
+    const SE2 t = SE2::exp(xi);
+    Eigen::Matrix3d jr_num, jl_num;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d d = Eigen::Vector3d::Unit(k) * h;
+      jr_num.col(k) =
+          ((t.inverse() * SE2::exp(xi + d)).log() - (t.inverse() * SE2::exp(xi - d)).log()) /
+          (2 * h);
+      jl_num.col(k) =
+          ((SE2::exp(xi + d) * t.inverse()).log() - (SE2::exp(xi - d) * t.inverse()).log()) /
+          (2 * h);
+    }
+    EXPECT_LT((rightJacobianSE2(xi) - jr_num).cwiseAbs().maxCoeff(), 1e-8) << xi.transpose();
+    EXPECT_LT((leftJacobianSE2(xi) - jl_num).cwiseAbs().maxCoeff(), 1e-8) << xi.transpose();
   }
 }
 

@@ -1,101 +1,26 @@
 // SPDX-License-Identifier: MIT
+// The SE(2) of the slam2d types: geometry's (exp/log, adjoint, Jacobians live there), and
+// its `.g2o` numbers x y theta.
 #pragma once
 
-#include <Eigen/Core>
-#include <cmath>
-
 #include "graphslam/core/data_traits.h"
+#include "graphslam/geometry/se2.h"
 
 namespace graphslam::types_slam2d {
-
-/// Wraps an angle to [-pi, pi).
-[[nodiscard]] inline double normalizeAngle(double a) {
-  constexpr double kPi = 3.14159265358979323846;
-  if (a >= -kPi && a < kPi) return a;
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0) a += 2.0 * kPi;
-  return a - kPi;
-}
-
-/// 2D rotation matrix of angle `theta`.
-[[nodiscard]] inline Eigen::Matrix2d rotation2(double theta) {
-  const double c = std::cos(theta);
-  const double s = std::sin(theta);
-  Eigen::Matrix2d r;
-  r << c, -s, s, c;
-  return r;
-}
-
-/// Rigid 2D transform a_T_b: maps points of frame b into frame a, p_a = R p_b + t.
-/// Stored as translation and angle (kept in [-pi, pi)), with the angle's cosine and sine
-/// computed once (edges ask for the rotation several times per iteration).
-class SE2 {
- public:
-  SE2() = default;
-  SE2(double x, double y, double theta) : SE2(Eigen::Vector2d(x, y), theta) {}
-  SE2(const Eigen::Vector2d& t, double theta)
-      : t_(t), theta_(normalizeAngle(theta)), c_(std::cos(theta_)), s_(std::sin(theta_)) {}
-  /// From (x, y, theta).
-  static SE2 fromVector(const Eigen::Vector3d& v) { return SE2(v[0], v[1], v[2]); }
-
-  [[nodiscard]] const Eigen::Vector2d& translation() const { return t_; }
-  [[nodiscard]] double angle() const { return theta_; }
-  [[nodiscard]] Eigen::Matrix2d rotation() const {
-    Eigen::Matrix2d r;
-    r << c_, -s_, s_, c_;
-    return r;
-  }
-  /// d(R^T)/d(theta).
-  [[nodiscard]] Eigen::Matrix2d rotationTransposedDerivative() const {
-    Eigen::Matrix2d d;
-    d << -s_, c_, -c_, -s_;
-    return d;
-  }
-  /// (x, y, theta): g2o's t2v.
-  [[nodiscard]] Eigen::Vector3d toVector() const { return {t_.x(), t_.y(), theta_}; }
-
-  [[nodiscard]] SE2 operator*(const SE2& b) const {
-    return SE2(t_ + rotation() * b.t_, theta_ + b.theta_);
-  }
-  [[nodiscard]] Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
-    return t_ + rotation() * p;
-  }
-  /// this^-1 * p = R^T (p - t): a point of the outer frame in this frame.
-  [[nodiscard]] Eigen::Vector2d inverseTimes(const Eigen::Vector2d& p) const {
-    return rotation().transpose() * (p - t_);
-  }
-  [[nodiscard]] SE2 inverse() const {
-    const Eigen::Matrix2d rt = rotation().transpose();
-    return SE2(-(rt * t_), -theta_);
-  }
-  /// Homogeneous 3x3 matrix.
-  [[nodiscard]] Eigen::Matrix3d matrix() const {
-    Eigen::Matrix3d m = Eigen::Matrix3d::Identity();
-    m.topLeftCorner<2, 2>() = rotation();
-    m.topRightCorner<2, 1>() = t_;
-    return m;
-  }
-
- private:
-  Eigen::Vector2d t_ = Eigen::Vector2d::Zero();
-  double theta_ = 0.0;
-  double c_ = 1.0;
-  double s_ = 0.0;
-};
-
+using geometry::normalizeAngle;
+using geometry::rotation2;
+using geometry::SE2;
 }  // namespace graphslam::types_slam2d
 
 namespace graphslam {
 template <>
-struct DataTraits<types_slam2d::SE2> {
+struct DataTraits<geometry::SE2> {
   static constexpr int kDimension = 3;
-  static void toData(const types_slam2d::SE2& v, double* out) {
+  static void toData(const geometry::SE2& v, double* out) {
     out[0] = v.translation().x();
     out[1] = v.translation().y();
     out[2] = v.angle();
   }
-  static types_slam2d::SE2 fromData(const double* in) {
-    return types_slam2d::SE2(in[0], in[1], in[2]);
-  }
+  static geometry::SE2 fromData(const double* in) { return geometry::SE2(in[0], in[1], in[2]); }
 };
 }  // namespace graphslam
