@@ -333,6 +333,7 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
     if (anchored[i]) root_anchored[uf.find(static_cast<int>(i))] = 1;
   }
   std::vector<std::vector<VertexId>> groups;
+  std::vector<const Vertex*> anchor;  // per group: the lowest id of the largest dimension
   std::vector<int> group_of_root(active.size(), -1);
   for (std::size_t i = 0; i < active.size(); ++i) {
     const int root = uf.find(static_cast<int>(i));
@@ -340,9 +341,23 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
     if (group_of_root[root] < 0) {
       group_of_root[root] = static_cast<int>(groups.size());
       groups.emplace_back();
+      anchor.push_back(active[i]);
     }
-    auto& group = groups[group_of_root[root]];
-    if (group.size() < max_ids) group.push_back(active[i]->id());
+    const auto g = static_cast<std::size_t>(group_of_root[root]);
+    if (groups[g].size() < max_ids) groups[g].push_back(active[i]->id());
+    if (active[i]->dimension() > anchor[g]->dimension()) anchor[g] = active[i];
+  }
+  for (std::size_t g = 0; g < groups.size(); ++g) {  // the anchor first
+    auto& ids = groups[g];
+    const VertexId a = anchor[g]->id();
+    if (ids.front() == a) continue;
+    const auto it = std::find(ids.begin(), ids.end(), a);
+    if (it != ids.end()) {
+      ids.erase(it);
+    } else if (ids.size() == max_ids) {
+      ids.pop_back();
+    }
+    ids.insert(ids.begin(), a);
   }
   return groups;
 }

@@ -51,8 +51,9 @@ class HessianStructure {
   [[nodiscard]] VertexId vertexOfColumn(int col) const;
 
   /// Connected groups of active vertices with no fixed vertex and no unary edge among
-  /// their edges: their position is undetermined. Each group holds up to `max_ids` ids,
-  /// smallest first.
+  /// their edges: their position is undetermined. Each group holds up to `max_ids` ids:
+  /// first the one that anchors it (the lowest id among its vertices of the largest
+  /// dimension, as fixGaugeIfFree chooses), then the smallest.
   [[nodiscard]] std::vector<std::vector<VertexId>> unanchoredGroups(std::size_t max_ids = 20) const;
 
  private:
@@ -86,7 +87,7 @@ class HessianStructure {
 };
 
 /// Removes the gauge freedom for the lifetime of the object: if `enabled`, no vertex is
-/// fixed and no unary edge exists, fixes the lowest-id vertex that has edges; the
+/// fixed and no unary edge exists, fixes a vertex that has edges (fixGaugeIfFree); the
 /// destructor releases it.
 class GaugeFix {
  public:
@@ -94,8 +95,9 @@ class GaugeFix {
   ~GaugeFix();
   GaugeFix(const GaugeFix&) = delete;
   GaugeFix& operator=(const GaugeFix&) = delete;
-  /// Also fixes the first (lowest-id) vertex of each group: the components that nothing
-  /// anchors (LinearSystem::unanchoredGroups), so that each has its own gauge fixed.
+  /// Also fixes the first vertex of each group (its anchor: the lowest id of the largest
+  /// dimension): the components that nothing anchors (LinearSystem::unanchoredGroups), so
+  /// that each has its own gauge fixed.
   void anchorGroups(Graph& graph, const std::vector<std::vector<VertexId>>& groups);
   /// Ids of the vertices fixed here.
   [[nodiscard]] const std::vector<VertexId>& fixedIds() const { return ids_; }

@@ -322,15 +322,18 @@ Vertex* fixGaugeIfFree(Graph& graph) {
                   [](const auto& e) { return e->active() && e->numVertices() == 1; })) {
     return nullptr;
   }
+  // The lowest id among the vertices of the largest dimension (as g2o's findGauge): a
+  // landmark of a lower id would leave a pose graph's rotation free.
+  Vertex* anchor = nullptr;
   for (const auto& [id, v] : vertices) {
     if (std::none_of(v->edges().begin(), v->edges().end(),
                      [](const Edge* e) { return e->active(); })) {
       continue;
     }
-    v->setFixed(true);
-    return v.get();
+    if (anchor == nullptr || v->dimension() > anchor->dimension()) anchor = v.get();
   }
-  return nullptr;
+  if (anchor != nullptr) anchor->setFixed(true);
+  return anchor;
 }
 
 }  // namespace graphslam

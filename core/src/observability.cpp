@@ -327,14 +327,14 @@ std::string ObservabilityReport::describeUnanchored() const {
   if (unanchored.empty()) return {};
   std::string lowest;
   for (std::size_t k = 0; k < unanchored.size() && k < 10; ++k) {
-    lowest += (k == 0 ? "" : ", ") + std::to_string(unanchored[k].front()) + " (" +
+    lowest += (k == 0 ? "" : ", ") + std::to_string(anchors.at(k)) + " (" +
               std::to_string(unanchored[k].size()) + " vertices)";
   }
   if (unanchored.size() > 10) lowest += ", ...";
   return "information: " + std::to_string(unanchored.size()) +
          (unanchored.size() == 1 ? " component has" : " components have") +
-         " no anchor (no fixed vertex, no prior); the optimizer fixes the lowest id of each "
-         "for the run: " +
+         " no anchor (no fixed vertex, no prior); the optimizer fixes one vertex of each "
+         "(its lowest id of the largest dimension) for the run: " +
          lowest;
 }
 
@@ -346,6 +346,14 @@ std::string ObservabilityReport::describe(std::size_t max_listed) const {
 ObservabilityReport checkObservability(Graph& graph, const ObservabilityOptions& options) {
   ObservabilityReport report;
   report.unanchored = checkConstraints(graph).unanchored;
+  for (const auto& group : report.unanchored) {
+    const Vertex* anchor = nullptr;
+    for (VertexId id : group) {
+      const Vertex* v = graph.vertex(id);
+      if (anchor == nullptr || v->dimension() > anchor->dimension()) anchor = v;
+    }
+    report.anchors.push_back(anchor != nullptr ? anchor->id() : -1);
+  }
   const OwnBlocks blocks(graph);
   detail::ThreadPool pool(options.threads);
   std::vector<char> flagged(blocks.vertices.size(), 0);

@@ -210,7 +210,8 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
   summary.gauge_fixed = gauge.fixedIds();
   for (VertexId id : summary.gauge_fixed) {
     log(LogLevel::kInfo, "fixing vertex " + std::to_string(id) +
-                             " (the lowest id of a component without a fixed vertex or prior) "
+                             " (of a component without a fixed vertex or prior: its lowest id among the "
+                             "vertices of the largest dimension) "
                              "to remove its gauge freedom");
   }
   im.jacobian_form = im.solver->form() == SystemForm::kJacobian;

@@ -49,7 +49,7 @@ endif()
 run(0 "status: +converged" "${TOOL}" optimize "${DATA}/no_edges.g2o" --drop-unobservable)
 
 # Components without an anchor: information, and the optimizer anchors each.
-run(0 "information: 2 components have no anchor [(]no fixed vertex, no prior[)]; the optimizer fixes the lowest id of each for the run: 0 [(]2 vertices[)], 5 [(]2 vertices[)].*status: +converged.*gauge: +fixed vertex 0 5" "${TOOL}"
+run(0 "information: 2 components have no anchor [(]no fixed vertex, no prior[)]; the optimizer fixes one vertex of each [(]its lowest id of the largest dimension[)] for the run: 0 [(]2 vertices[)], 5 [(]2 vertices[)].*status: +converged.*gauge: +fixed vertex 0 5" "${TOOL}"
        optimize "${DATA}/unanchored.g2o")
 run(0 "observability: every non-fixed vertex is determined by its edges\ninformation: 2 components have no anchor" "${TOOL}"
        info "${DATA}/unanchored.g2o")
@@ -68,3 +68,11 @@ foreach(algorithm lm dogleg auto)
       -o "${WORK}/joint_${algorithm}.g2o")
   expect_no_output("${WORK}/joint_${algorithm}.g2o")
 endforeach()
+# Bearing-only landmarks with ids below the poses' (as g2o_simulator2d writes them): the one
+# seen once is named before iterating; without it the graph converges with a pose, not
+# landmark 1, fixed as the gauge (fixing a landmark would leave the rotation about it free).
+run(2 "vertex 8 [(]VERTEX_XY[)]: seen from one vertex [(]100[)] by bearing only: it can slide along the line of sight [[]edge on line 206[]].*not optimising"
+    "${TOOL}" optimize "${DATA}/bearing_landmarks_first.g2o" -o "${WORK}/bearing.g2o")
+expect_no_output("${WORK}/bearing.g2o")
+run(0 "dropped 1 vertex [(]8[)] and 1 edge.*fixes one vertex of each [(]its lowest id of the largest dimension[)] for the run: 100 [(]39 vertices[)].*status: +converged.*gauge: +fixed vertex 100\n.*wrote"
+    "${TOOL}" optimize "${DATA}/bearing_landmarks_first.g2o" --drop-unobservable -o "${WORK}/bearing.g2o")

@@ -96,7 +96,8 @@ class LinearSystem {
   /// Id of the vertex owning column `col`, -1 if out of range.
   [[nodiscard]] VertexId vertexOfColumn(int col) const;
   /// Connected groups of active vertices with no fixed vertex and no unary edge (their
-  /// position is undetermined), each with up to `max_ids` ids, smallest first.
+  /// position is undetermined), each with up to `max_ids` ids: its anchor first (the lowest
+  /// id among its vertices of the largest dimension), then the smallest.
   [[nodiscard]] std::vector<std::vector<VertexId>> unanchoredGroups(std::size_t max_ids = 20) const;
 
  private:

@@ -56,6 +56,9 @@ struct ObservabilityReport {
   /// and no unary edge (complete, sorted id lists; checkConstraints). Such a group can move
   /// as a whole; the optimizer fixes its lowest id for the run (Optimizer::Options::fix_gauge).
   std::vector<std::vector<VertexId>> unanchored;
+  /// Per unanchored group, the vertex the optimizer fixes for it: the lowest id among its
+  /// vertices of the largest dimension (a pose rather than a landmark).
+  std::vector<VertexId> anchors;
 
   [[nodiscard]] bool ok() const { return undetermined.empty(); }
   [[nodiscard]] std::vector<VertexId> undeterminedIds() const;
