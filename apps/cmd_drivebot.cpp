@@ -11,6 +11,7 @@
 #include "cli_common.h"
 #include "drivebot_output.h"
 #include "graphslam/core/error.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/drivebot/run.h"
 #include "graphslam/drivebot/scenario.h"
@@ -29,8 +30,8 @@ constexpr const char* kUsage =
     "usage: graphslam drivebot (--scenario NAME | --experiment NAME) --out DIR [--plot]\n"
     "                          [--seed S] [--optimize-every N] [--sensors gps,compass,laser|none]\n"
     "                          [--remove-prediction-edges none|all|keep-first]\n"
-    "                          [--prune none|every-second|staggered|keyframe] [--max-steps N]\n"
-    "                          [--laser-range R] [--compass-offset A] [...]\n"
+    "                          [--prune none|every-second|coursework|staggered|keyframe]\n"
+    "                          [--max-steps N] [--laser-range R] [--compass-offset A] [...]\n"
     "Simulates the DriveBot vehicle of UCL COMP0130 coursework 2 on a scenario, runs the\n"
     "event-driven SLAM system on its events and writes per-step CSV, the final graph (.g2o),\n"
     "graph statistics and, with --plot, PNG plots. --experiment sets everything as the\n"
@@ -137,7 +138,14 @@ const std::vector<Experiment>& experiments() {
          q3a(s);
          s.slam.remove_prediction_edges = PredictionEdgeRemoval::kKeepFirst;
        }},
-      {"q3_b_every_second", "q3_a keeping every second observation of each landmark",
+      {"q3_b_coursework",
+       "q3_a pruning as the coursework did: at every optimisation each landmark keeps every "
+       "second of its observation edges in the graph",
+       [](Setup& s) {
+         q3a(s);
+         s.slam.prune = PruneRule::kCoursework;
+       }},
+      {"q3_b_every_second", "q3_a keeping every second observation of each landmark (once)",
        [](Setup& s) {
          q3a(s);
          s.slam.prune = PruneRule::kEverySecond;
@@ -228,6 +236,7 @@ void declareOptions(po::options_description& desc) {
                                         "source tree's ../shared/datasets, + /seeds/comp0130_23-24_cw2_simulations)")
     ("out", po::value<std::string>(), "output directory (created)")
     ("plot", "also draw PNG plots (matplotlib)")
+    ("log-chi2", "with --plot: chi2 on a log axis (default linear)")
     ("seed", po::value<std::uint64_t>()->default_value(1), "random seed")
     ("optimize-every", po::value<int>(), "optimise every N steps (0: only once at the end)")
     ("iterations", po::value<int>(), "iterations per optimisation (default 50)")
@@ -243,8 +252,9 @@ void declareOptions(po::options_description& desc) {
     ("no-noise", "exact measurements (sensor timing stays random)")
     ("max-steps", po::value<long>(), "stop after N steps")
     ("remove-prediction-edges", po::value<std::string>(), "none, all or keep-first (before each optimisation)")
-    ("prune", po::value<std::string>(), "landmark observations kept: none, every-second, staggered, keyframe")
-    ("prune-every", po::value<int>(), "every-second and staggered keep every N-th sighting (default 2)")
+    ("prune", po::value<std::string>(), "landmark observations kept: none, every-second (once, on arrival), coursework "
+                                        "(halve the graph's at every optimisation), staggered, keyframe")
+    ("prune-every", po::value<int>(), "every-second, coursework and staggered keep every N-th sighting (default 2)")
     ("keyframe-distance", po::value<double>(), "m (keyframe pruning; default 2)")
     ("keyframe-angle", po::value<double>(), "deg (keyframe pruning; default 15)")
     ("no-waypoint-quirk", "steer the right way on the step after a waypoint switch")
@@ -268,18 +278,15 @@ std::string presetOverrides(const po::variables_map& vm) {
   std::string overrides;
   for (const auto& [key, value] : vm) {
     if (value.defaulted() || key == "experiment" || key == "out" || key == "plot" ||
-        key == "data" || key == "seed") {
+        key == "log-chi2" || key == "data" || key == "seed" || key == "quiet") {
       continue;
     }
     overrides += " --" + key;
-    try {
-      overrides += " " + value.as<std::string>();
-    } catch (const boost::bad_any_cast&) {
-      try {
-        overrides += " " + std::to_string(value.as<int>());
-      } catch (const boost::bad_any_cast&) {
-      }
-    }
+    const boost::any& v = value.value();
+    if (const auto* s = boost::any_cast<std::string>(&v)) overrides += " " + *s;
+    if (const auto* i = boost::any_cast<int>(&v)) overrides += " " + std::to_string(*i);
+    if (const auto* l = boost::any_cast<long>(&v)) overrides += " " + std::to_string(*l);
+    if (const auto* d = boost::any_cast<double>(&v)) overrides += " " + formatDouble(*d);
   }
   return overrides;
 }
@@ -333,6 +340,7 @@ void applySlamOptions(const po::variables_map& vm, Setup& setup) {
     slam.prune = parseChoice<PruneRule>("prune", vm["prune"].as<std::string>(),
                                         {{"none", PruneRule::kNone},
                                          {"every-second", PruneRule::kEverySecond},
+                                         {"coursework", PruneRule::kCoursework},
                                          {"staggered", PruneRule::kStaggered},
                                          {"keyframe", PruneRule::kKeyframe}});
   }
@@ -480,7 +488,9 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   if (vm.count("plot")) {
     std::string title = scenario.name;
     if (!setup.description.empty()) title = setup.description;
-    runPlotScript("plot_drivebot.py", {out_dir, title});
+    std::vector<std::string> args{out_dir, title};
+    if (vm.count("log-chi2")) args.emplace_back("--log-chi2");
+    runPlotScript("plot_drivebot.py", args);
     std::printf("plots:         %s/*.png\n", out_dir.c_str());
   }
   return kExitOk;

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 // graphslam info: counts, components, fixed vertices and the sparsity picture of H.
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <numeric>
 #include <string>
 #include <vector>
 
 #include "cli_common.h"
+#include "factor_graph_dot.h"
 #include "graphslam/core/internal/file_util.h"
 #include "input.h"
 #include "observability_check.h"
@@ -15,12 +17,18 @@
 namespace graphslam::apps {
 
 int cmdInfo(const std::vector<std::string>& args) {
-  std::string input, plot, information = "refuse";
+  std::string input, plot, plot_graph, information = "refuse";
+  FactorGraphPlotOptions graph_plot;
   std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("input", po::value(&input),
                                                  "input .g2o file or CMU 16-833 homework .npz")(
       "plot-hessian", po::value(&plot), "write a PNG of the sparsity of the information matrix H")(
+      "plot-graph", po::value(&plot_graph),
+      "draw the factor graph: FILE.png|.svg|.pdf (Graphviz's dot; the source beside it as "
+      "FILE.png.dot) or FILE.dot")(
+      "plot-graph-max", po::value(&graph_plot.max_vertices)->default_value(graph_plot.max_vertices),
+      "largest graph --plot-graph draws (vertices)")(
       "information", po::value(&information)->default_value("refuse"),
       "edges whose information is not positive definite: refuse, nearest-pd or isotropic")(
       "plugin", po::value(&plugins)->composing(),
@@ -30,9 +38,10 @@ int cmdInfo(const std::vector<std::string>& args) {
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png] [--information MODE]\n"
+        "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png] [--plot-graph FILE.png]\n"
+        "                      [--information MODE]\n"
         "Counts per type, connected components, fixed vertices, the vertices the edges do not\n"
-        "determine (with the reason), and the sparsity of H.",
+        "determine (with the reason), the sparsity of H and a picture of the factor graph.",
         desc);
     return kExitOk;
   }
@@ -123,8 +132,16 @@ int cmdInfo(const std::vector<std::string>& args) {
         }
       }
     });
-    runPlotScript("plot_sparsity.py", {data, plot, "Information matrix H of " + input});
+    runPlotScript("plot_sparsity.py",
+                  {data, plot,
+                   "Information matrix H of " + std::filesystem::path(input).filename().string()});
     std::printf("wrote %s\n", plot.c_str());
+  }
+  if (!plot_graph.empty()) {
+    graph_plot.title = "factor graph of " + std::filesystem::path(input).filename().string() + ": " +
+                       std::to_string(graph.numVertices()) + " variables, " +
+                       std::to_string(graph.numEdges()) + " factors";
+    plotFactorGraph(plot_graph, graph, reg.types, graph_plot);
   }
   return kExitOk;
 }

@@ -48,9 +48,12 @@ constexpr double kAgreement = 1e-8;
 
 /// Writes a sparsity pattern for tools/plot/plot_spy.py: a header line
 /// `rows,cols,nnz,title`, then `r,c,count` per occupied cell of a grid of at most
-/// 1000 x 1000 cells (the tool bins large matrices itself).
+/// 1000 x 1000 cells (the tool bins large matrices itself). `reported_nnz` (0: none) is the
+/// solver table's nnz(factor): the picture's title gives it, and the pattern's own count
+/// beside it when the two differ (a backend that stores more than it reports).
 void writePattern(const std::string& path, int rows, int cols, const std::vector<int>& ptr,
-                  const std::vector<int>& idx, const std::string& title, bool upper_only) {
+                  const std::vector<int>& idx, std::string title, bool upper_only,
+                  std::size_t reported_nnz = 0) {
   const int grid = 1000;
   const double sr = rows > grid ? static_cast<double>(grid) / rows : 1.0;
   const double sc = cols > grid ? static_cast<double>(grid) / cols : 1.0;
@@ -63,6 +66,10 @@ void writePattern(const std::string& path, int rows, int cols, const std::vector
       ++nnz;
       ++cells[{static_cast<int>(r * sr), static_cast<int>(c * sc)}];
     }
+  }
+  if (reported_nnz != 0 && reported_nnz != nnz) {
+    title += " (pattern stored: " + std::to_string(nnz) + " entries)";
+    nnz = reported_nnz;
   }
   writeFileAtomically(path, [&](std::ostream& out) {
     out << rows << ',' << cols << ',' << nnz << ',' << std::min(rows, grid) << ','
@@ -334,9 +341,10 @@ void plotPatterns(const std::string& plot_dir, const std::string& stem, const St
   fs::create_directories(fs::path(plot_dir) / "data");
   std::vector<std::string> plot_args{plot_dir};
   auto add = [&](const std::string& name, int r, int c, const std::vector<int>& ptr,
-                 const std::vector<int>& idx, const std::string& title, bool upper) {
+                 const std::vector<int>& idx, const std::string& title, bool upper,
+                 std::size_t reported_nnz = 0) {
     const std::string path = (fs::path(plot_dir) / "data" / (name + ".csv")).string();
-    writePattern(path, r, c, ptr, idx, title, upper);
+    writePattern(path, r, c, ptr, idx, title, upper, reported_nnz);
     plot_args.push_back(path);
   };
   add(stem + "_H", sys.n, sys.n, sys.h_ptr, sys.h_idx, stem + ": H (upper triangle)", true);
@@ -357,7 +365,7 @@ void plotPatterns(const std::string& plot_dir, const std::string& stem, const St
     int nrows = cols;
     for (int v : r.factor_idx) nrows = std::max(nrows, v + 1);
     add(stem + "_" + r.solver + "_" + r.ordering, nrows, cols, r.factor_ptr, r.factor_idx,
-        stem + ": factor of " + r.solver + ", " + r.ordering + " ordering", false);
+        stem + ": factor of " + r.solver + ", " + r.ordering + " ordering", false, r.factor_nnz);
   }
   runPlotScript("plot_spy.py", plot_args);
   std::cout << "wrote " << plot_args.size() - 1 << " pictures into " << plot_dir << "\n";

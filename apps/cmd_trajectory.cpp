@@ -159,6 +159,7 @@ struct EvalOptions {
   std::string metric, ref_path, est_path, relation = "trans_part", ref_format = "auto",
                                           est_format = "auto";
   std::string save, plot_dir, unit = "f";
+  std::vector<std::string> plot_with;  // more trajectories for the trajectory plot
   double t_max_diff = 0.01, t_offset = 0.0, delta = 1.0;
   int n_to_align = -1;
   bool align = false, correct_scale = false, align_origin = false, all_pairs = false;
@@ -185,7 +186,9 @@ void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
       "ref-format", po::value(&o.ref_format)->default_value("auto"), "auto, tum, kitti or g2o")(
       "est-format", po::value(&o.est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
       "save-results", po::value(&o.save), "write the result as .json or .csv")(
-      "plot", po::value(&o.plot_dir), "write PNG plots into this directory (it must exist)");
+      "plot", po::value(&o.plot_dir), "write PNG plots into this directory (it must exist)")(
+      "plot-with", po::value(&o.plot_with)->composing(),
+      "also draw this trajectory (all its poses, as read) in the trajectory plot (repeatable)");
 }
 
 /// Parses and checks the options; false after --help.
@@ -208,6 +211,7 @@ bool parseEvalOptions(const std::vector<std::string>& args, EvalOptions& o) {
   o.all_pairs = vm.count("all-pairs") != 0;
   if (o.metric != "ape" && o.metric != "rpe") throw UsageError("the metric must be ape or rpe");
   if (o.ref_path.empty() || o.est_path.empty()) throw UsageError("eval needs REF and EST");
+  if (!o.plot_with.empty() && o.plot_dir.empty()) throw UsageError("--plot-with needs --plot DIR");
   return true;
 }
 
@@ -217,6 +221,8 @@ struct EvalResult {
   std::vector<std::string> labels;  // per error: timestamp of the (second) pose it belongs to
   ErrorStatistics stats;
   Trajectory ref_used, est_used;
+  UmeyamaResult umeyama;  // the alignment applied to the estimate
+  Eigen::Isometry3d origin_transform = Eigen::Isometry3d::Identity();
   double seconds = 0.0;
 };
 
@@ -249,6 +255,8 @@ EvalResult evaluate(const EvalOptions& o, const Trajectory& ref, const Trajector
     e.stats = r.statistics;
     e.ref_used = r.reference;
     e.est_used = r.estimate;
+    e.umeyama = r.umeyama;
+    e.origin_transform = r.origin_transform;
   };
   if (o.metric == "ape") {
     ApeOptions opt;
@@ -320,23 +328,62 @@ void saveResults(const std::string& save, const std::string& metric, const std::
   }
 }
 
-void plotEval(const std::string& plot_dir, const std::string& metric, const std::string& title,
-              const EvalResult& e) {
-  const std::string stem = plot_dir + "/" + metric;
+/// Every pose of `est`, with the alignment the metric applied to the associated ones (so
+/// poses without a reference, e.g. a 13th pose closing a loop of 12, are drawn too).
+void writeAlignedPositionsCsv(const std::string& path, const Trajectory& est, const EvalResult& e) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "t,x,y,z\n";
+    for (std::size_t i = 0; i < est.size(); ++i) {
+      const Eigen::Vector3d p =
+          e.origin_transform *
+          (e.umeyama.scale * e.umeyama.rotation * est.position(i) + e.umeyama.translation);
+      out << formatDouble(est.timestamp(i)) << ',' << formatDouble(p.x()) << ','
+          << formatDouble(p.y()) << ',' << formatDouble(p.z()) << '\n';
+    }
+  });
+}
+
+/// The unit in "translation part (m)": "m"; "unit-less" becomes "-".
+std::string unitOf(const std::string& relation_title) {
+  const auto open = relation_title.rfind('('), close = relation_title.rfind(')');
+  if (open == std::string::npos || close == std::string::npos || close < open) return "-";
+  const std::string unit = relation_title.substr(open + 1, close - open - 1);
+  return unit == "unit-less" ? "-" : unit;
+}
+
+std::string baseName(const std::string& path) {
+  return std::filesystem::path(path).filename().string();
+}
+
+void plotEval(const EvalOptions& o, const std::string& title, const std::string& unit,
+              const EvalResult& e, const Trajectory& est, const std::vector<Trajectory>& extra) {
+  const std::string stem = o.plot_dir + "/" + o.metric;
+  std::vector<std::string> files = {"_reference.csv", "_estimate.csv", "_estimate_all.csv",
+                                    "_errors.csv", "_trajectories.png", "_error.png",
+                                    "_error_map.png"};
+  std::vector<std::string> args = {o.plot_dir, o.metric,
+                                   title + "\n" + baseName(o.est_path) + " against " +
+                                       baseName(o.ref_path),
+                                   unit, baseName(o.est_path)};
+  for (std::size_t k = 0; k < extra.size(); ++k) {
+    files.push_back("_with" + std::to_string(k) + ".csv");
+    args.push_back(baseName(o.plot_with[k]));
+  }
   try {
     writePositionsCsv(stem + "_reference.csv", e.ref_used);
     writePositionsCsv(stem + "_estimate.csv", e.est_used);
-    writeErrorsCsv(stem + "_errors.csv", e);
-    runPlotScript("plot_eval.py", {plot_dir, metric, title});
-  } catch (...) {  // all or nothing: none of the plot's files stays
-    for (const char* end : {"_reference.csv", "_estimate.csv", "_errors.csv", "_trajectories.png",
-                            "_error.png", "_error_map.png"}) {
-      std::remove((stem + end).c_str());
+    writeAlignedPositionsCsv(stem + "_estimate_all.csv", est, e);
+    for (std::size_t k = 0; k < extra.size(); ++k) {
+      writePositionsCsv(stem + "_with" + std::to_string(k) + ".csv", extra[k]);
     }
+    writeErrorsCsv(stem + "_errors.csv", e);
+    runPlotScript("plot_eval.py", args);
+  } catch (...) {  // all or nothing: none of the plot's files stays
+    for (const auto& end : files) std::remove((stem + end).c_str());
     throw;
   }
-  std::printf("plots: %s/%s_trajectories.png, %s_error.png, %s_error_map.png\n", plot_dir.c_str(),
-              metric.c_str(), metric.c_str(), metric.c_str());
+  std::printf("plots: %s_trajectories.png, %s_error.png, %s_error_map.png\n", stem.c_str(),
+              stem.c_str(), stem.c_str());
 }
 
 }  // namespace
@@ -370,6 +417,8 @@ int cmdEval(const std::vector<std::string>& args) {
   loadRegistries(reg, {});
   const Trajectory ref = loadTrajectory(o.ref_path, o.ref_format, reg);
   const Trajectory est = loadTrajectory(o.est_path, o.est_format, reg);
+  std::vector<Trajectory> extra;  // --plot-with, read before the work
+  for (const auto& path : o.plot_with) extra.push_back(loadTrajectory(path, "auto", reg));
   const bool kitti = trajectoryFormat(o.ref_path, o.ref_format) == "kitti" ||
                      trajectoryFormat(o.est_path, o.est_format) == "kitti";
   const AlignmentOptions align = alignmentOf(o);
@@ -383,7 +432,9 @@ int cmdEval(const std::vector<std::string>& args) {
   std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
               statsTable(e.stats).c_str(), e.ref_used.size(), e.errors.size(), e.seconds);
   if (!o.save.empty()) saveResults(outputs.staged(o.save), o.metric, title, mode, e);
-  if (!o.plot_dir.empty()) plotEval(o.plot_dir, o.metric, title + " " + mode, e);
+  if (!o.plot_dir.empty()) {
+    plotEval(o, title + " " + mode, unitOf(relationTitle(rel)), e, est, extra);
+  }
   outputs.commit();
   if (!o.save.empty()) std::printf("wrote %s\n", o.save.c_str());
   return kExitOk;

@@ -32,7 +32,7 @@ void writeSteps(const std::string& path, const RunResult& r) {
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,time,waypoint,true_x,true_y,true_psi,x,y,psi,var_x,var_y,var_psi,online_x,"
            "online_y,online_psi,online_var_x,online_var_y,online_var_psi,optimized,chi2,"
-           "optimization_time,iterations,vertices,edges,observations\n";
+           "optimization_time,optimization_cpu_time,iterations,vertices,edges,observations,gps\n";
     for (std::size_t k = 0; k < r.steps.size(); ++k) {
       const StepRecord& s = r.steps[k];
       out << s.step << ',' << num(s.time) << ',' << s.waypoint_index;
@@ -42,8 +42,8 @@ void writeSteps(const std::string& path, const RunResult& r) {
       for (int i = 0; i < 3; ++i) out << ',' << num(s.online[i]);
       for (int i = 0; i < 3; ++i) out << ',' << num(s.online_variance[i]);
       out << ',' << (s.optimized ? 1 : 0) << ',' << num(s.chi2) << ',' << num(s.optimization_time)
-          << ',' << s.iterations << ',' << s.vertices << ',' << s.edges << ',' << s.observations
-          << '\n';
+          << ',' << num(s.optimization_cpu_time) << ',' << s.iterations << ',' << s.vertices << ','
+          << s.edges << ',' << s.observations << ',' << (s.gps ? 1 : 0) << '\n';
     }
   });
 }
@@ -82,6 +82,22 @@ void writeLoopClosure(const std::string& path, const LoopClosure& lc, const Scen
   });
 }
 
+/// Every vehicle vertex's covariance diagonal just before and just after the closure.
+void writeLoopClosureVehicle(const std::string& path, const LoopClosure& lc) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "phase,step,time,x,y,psi,var_x,var_y,var_psi\n";
+    for (const auto* m : {&lc.before, &lc.after}) {
+      const VehicleHistory& h = m->vehicle_history;
+      for (std::size_t k = 0; k < h.time.size(); ++k) {
+        out << (m == &lc.before ? "before," : "after,") << m->step << ',' << num(h.time[k]);
+        for (int i = 0; i < 3; ++i) out << ',' << num(h.x[k][i]);
+        for (int i = 0; i < 3; ++i) out << ',' << num(h.variance[k][i]);
+        out << '\n';
+      }
+    }
+  });
+}
+
 void writeStatistics(const std::string& path, const GraphStatistics& g) {
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "quantity,value\n"
@@ -116,7 +132,8 @@ void writeSummary(const std::string& path, const RunResult& r) {
   writeFileAtomically(path, [&](std::ostream& out) {
     const Summary& f = r.final_summary;
     out << "quantity,value\nsteps," << r.steps.size() << "\noptimizations," << r.optimizations
-        << "\ntotal_optimization_time," << num(r.total_optimization_time) << "\nfinal_status,"
+        << "\ntotal_optimization_time," << num(r.total_optimization_time)
+        << "\ntotal_optimization_cpu_time," << num(r.total_optimization_cpu_time) << "\nfinal_status,"
         << toString(f.status) << "\nfinal_chi2," << num(f.final_chi2) << "\nfinal_iterations,"
         << f.iterations << "\nfinal_time," << num(f.total_time) << "\nvehicle_marginals_time,"
         << num(r.history_marginals.total_time) << "\nlandmark_marginals_time,"
@@ -124,18 +141,39 @@ void writeSummary(const std::string& path, const RunResult& r) {
   });
 }
 
-/// Median of the optimisation times of the steps whose target waypoint lies in
-/// [first, last) of the route; NaN when none optimised there.
-double medianOptimizationTime(const RunResult& r, int first, int last) {
-  std::vector<double> t;
-  for (const auto& s : r.steps) {
-    if (s.optimized && s.waypoint_index >= first && s.waypoint_index < last) {
-      t.push_back(s.optimization_time);
-    }
-  }
+double median(std::vector<double> t) {
   if (t.empty()) return std::nan("");
   std::nth_element(t.begin(), t.begin() + static_cast<long>(t.size() / 2), t.end());
   return t[t.size() / 2];
+}
+
+/// Median CPU and wall time of the optimisations of the steps [first, last) of the run
+/// (indices into RunResult::steps); NaN when none optimised there.
+std::pair<double, double> medianOptimizationTimes(const RunResult& r, std::size_t first,
+                                                  std::size_t last) {
+  std::vector<double> cpu, wall;
+  for (std::size_t k = first; k < last && k < r.steps.size(); ++k) {
+    if (!r.steps[k].optimized) continue;
+    cpu.push_back(r.steps[k].optimization_cpu_time);
+    wall.push_back(r.steps[k].optimization_time);
+  }
+  return {median(cpu), median(wall)};
+}
+
+/// "optimisation: N runs, ... ; median per step ... (first quarter of the steps) ..."
+void printOptimizationLine(const RunResult& r) {
+  std::printf("optimisation:  %d runs, %.3f s CPU (%.3f s wall) in total", r.optimizations,
+              r.total_optimization_cpu_time, r.total_optimization_time);
+  const std::size_t n = r.steps.size(), quarter = n / 4;
+  const auto first = medianOptimizationTimes(r, 0, quarter);
+  const auto last = medianOptimizationTimes(r, n - quarter, n);
+  if (quarter > 0 && std::isfinite(first.first) && std::isfinite(last.first)) {
+    std::printf(
+        "; median per optimisation %.3f ms CPU (%.3f ms wall) in the first quarter of the "
+        "steps, %.3f ms CPU (%.3f ms wall) in the last",
+        1e3 * first.first, 1e3 * first.second, 1e3 * last.first, 1e3 * last.second);
+  }
+  std::printf("\n");
 }
 
 }  // namespace
@@ -157,17 +195,8 @@ void printDrivebotReport(const Scenario& scenario, const RunResult& r, bool lase
         g.observations_received, g.observation_edges, g.observations_per_vehicle_vertex,
         g.observations_per_landmark);
   }
-  const int n_wp = static_cast<int>(scenario.waypoints.size());
-  const int quarter = std::max(1, n_wp / 4);
-  std::printf("optimisation:  %d runs, %.3f s in total", r.optimizations,
-              r.total_optimization_time);
-  const double first = medianOptimizationTime(r, 0, quarter);
-  const double last = medianOptimizationTime(r, n_wp - quarter, n_wp);
-  if (std::isfinite(first) && std::isfinite(last)) {
-    std::printf("; median per step %.2f ms (first quarter of the route), %.2f ms (last quarter)",
-                1e3 * first, 1e3 * last);
-  }
-  std::printf("\nfinal:         %s, chi2 %.6g, %d iterations\n", toString(r.final_summary.status),
+  printOptimizationLine(r);
+  std::printf("final:         %s, chi2 %.6g, %d iterations\n", toString(r.final_summary.status),
               r.final_summary.final_chi2, r.final_summary.iterations);
   if (r.history.time.size() == r.steps.size() && !r.steps.empty()) {
     Eigen::Vector3d sq = Eigen::Vector3d::Zero(), mx = Eigen::Vector3d::Zero();
@@ -218,6 +247,11 @@ void printDrivebotReport(const Scenario& scenario, const RunResult& r, bool lase
                     b.last_seen_step - 1);
       }
     }
+    const Eigen::Vector3d vb = lc.before.vehicle_covariance.diagonal();
+    const Eigen::Vector3d va = lc.after.vehicle_covariance.diagonal();
+    std::printf(
+        "  vehicle: var x %.4g -> %.4g m^2, var y %.4g -> %.4g m^2, var psi %.4g -> %.4g rad^2\n",
+        vb[0], va[0], vb[1], va[1], vb[2], va[2]);
   }
 }
 
@@ -231,12 +265,15 @@ void writeDrivebotResults(const std::string& out_dir, const Scenario& scenario, 
   writeScenario(out_dir + "/scenario.csv", scenario);
   writeStatistics(out_dir + "/graph_stats.csv", r.statistics);
   writeSummary(out_dir + "/summary.csv", r);
-  if (r.loop_closure) writeLoopClosure(out_dir + "/loop_closure.csv", *r.loop_closure, scenario);
+  if (r.loop_closure) {
+    writeLoopClosure(out_dir + "/loop_closure.csv", *r.loop_closure, scenario);
+    writeLoopClosureVehicle(out_dir + "/loop_closure_vehicle.csv", *r.loop_closure);
+  }
   io::saveG2o(out_dir + "/final.g2o", graph, types);
   std::printf(
       "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv%s, "
       "final.g2o}\n",
-      out_dir.c_str(), r.loop_closure ? ", loop_closure.csv" : "");
+      out_dir.c_str(), r.loop_closure ? ", loop_closure.csv, loop_closure_vehicle.csv" : "");
 }
 
 }  // namespace graphslam::apps

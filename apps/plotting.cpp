@@ -48,6 +48,8 @@ std::string plotDir() {
 
 }  // namespace
 
+int runCommand(const std::vector<std::string>& argv, bool quiet) { return run(argv, quiet); }
+
 std::string findPlotPython() {
   std::vector<std::string> candidates;
   if (const char* env = std::getenv("GRAPHSLAM_PYTHON"); env && *env) candidates.emplace_back(env);

@@ -19,6 +19,10 @@ namespace graphslam::apps {
 /// empty when none does.
 [[nodiscard]] std::string findPlotPython();
 
+/// Runs argv (no shell; the program is looked up in PATH); `quiet` discards its output.
+/// Returns its exit status, -1 if it could not run.
+int runCommand(const std::vector<std::string>& argv, bool quiet);
+
 /// Runs tools/plot/<script> with `args`. Throws graphslam::Error with install advice when
 /// no interpreter has matplotlib, or naming the script when it fails.
 void runPlotScript(const std::string& script, const std::vector<std::string>& args);

@@ -1,12 +1,22 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/drivebot/run.h"
 
+#include <time.h>
+
 #include <chrono>
+#include <cmath>
 
 namespace graphslam::drivebot {
 
 
 namespace {
+
+/// CPU time of the calling thread [s].
+double threadCpuSeconds() {
+  timespec ts{};
+  if (::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return std::nan("");
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 bool failed(const Summary& s) {
   return s.status == TerminationStatus::kNumericalFailure ||
@@ -21,6 +31,7 @@ MapSnapshot snapshot(DriveBotSlamSystem& system, long step, double time, double 
   m.vehicle = system.currentVehicleEstimate();
   m.marginals = system.landmarkEstimates(m.landmarks);
   (void)system.currentVehicleCovariance(m.vehicle_covariance);
+  (void)system.vehicleHistory(m.vehicle_history);
   return m;
 }
 
@@ -36,15 +47,19 @@ RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const Ru
     result.failure = s;
   };
   auto timed_optimize = [&](int iterations, StepRecord* record) {
+    const double cpu0 = threadCpuSeconds();
     const auto t0 = Clock::now();
     Summary s = system.optimize(iterations);
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double cpu = threadCpuSeconds() - cpu0;
     result.total_optimization_time += seconds;
+    result.total_optimization_cpu_time += cpu;
     ++result.optimizations;
     if (record) {
       record->optimized = true;
       record->chi2 = s.final_chi2;
       record->optimization_time = seconds;
+      record->optimization_cpu_time = cpu;
       record->iterations = s.iterations;
     }
     return s;
@@ -57,7 +72,10 @@ RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const Ru
     rec.time = simulator.time();
     rec.truth = simulator.truth().x;
     rec.waypoint_index = simulator.truth().waypoint_index;
-    for (const Event& e : events) rec.observations += e.observations.size();
+    for (const Event& e : events) {
+      rec.observations += e.observations.size();
+      rec.gps = rec.gps || e.type == EventType::kGps;
+    }
 
     std::vector<int> closing;
     if (options.snapshot_loop_closure && !result.loop_closure) {

@@ -252,6 +252,28 @@ class BlockCholesky final : public detail::OrderedSolver {
   }
   std::optional<CholeskyPrediction> analysedCost() const override { return cost_; }
 
+  /// L's lower triangle in the permuted scalar order: per block column, the lower triangle
+  /// of its diagonal block and every stored block below it (the dense tail included), as
+  /// factorNonZeros() counts them.
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    if (col_ptr_.empty()) return false;
+    std::vector<int> first(static_cast<std::size_t>(nb_) + 1, 0);  // scalar start of block k
+    for (int k = 0; k < nb_; ++k) first[k + 1] = first[k] + dim(old_[k]);
+    col_ptr.assign(1, 0);
+    row_idx.clear();
+    for (int i = 0; i < nb_; ++i) {
+      for (int c = first[i]; c < first[i + 1]; ++c) {
+        for (int r = c; r < first[i + 1]; ++r) row_idx.push_back(r);
+        for (int q = col_ptr_[i] + 1; q < col_ptr_[i + 1]; ++q) {
+          const int k = col_row_[q];
+          for (int r = first[k]; r < first[k + 1]; ++r) row_idx.push_back(r);
+        }
+        col_ptr.push_back(static_cast<int>(row_idx.size()));
+      }
+    }
+    return true;
+  }
+
  private:
   int dim(int original_block) const { return start_[original_block + 1] - start_[original_block]; }
 
@@ -486,6 +508,9 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
   std::size_t factorNonZeros() const override { return impl_ ? impl_->factorNonZeros() : 0; }
   std::optional<CholeskyPrediction> analysedCost() const override {
     return impl_ ? impl_->analysedCost() : std::nullopt;
+  }
+  bool factorPattern(std::vector<int>& col_ptr, std::vector<int>& row_idx) const override {
+    return impl_ && impl_->factorPattern(col_ptr, row_idx);
   }
 
  private:

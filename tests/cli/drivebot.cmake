@@ -42,16 +42,34 @@ if(MODE STREQUAL "short")
   if(EXISTS "${WORK}/q3a_all/steps.csv" OR EXISTS "${WORK}/q3a_all/final.g2o")
     message(FATAL_ERROR "the failed run wrote results")
   endif()
+  # The coursework's pruning halves each landmark's observation edges at every optimisation.
+  run(0 "prune: coursework.*observations: +([0-9]+) received, ([0-9]+) in the graph"
+      ${TOOL} drivebot --experiment q3_b_coursework --max-steps 1000 --out q3b_coursework -q)
+  file(STRINGS ${WORK}/q3b_coursework/graph_stats.csv kept REGEX "^observation_edges,")
+  file(STRINGS ${WORK}/q3b_coursework/graph_stats.csv received REGEX "^observations_received,")
+  string(REGEX REPLACE ".*," "" kept "${kept}")
+  string(REGEX REPLACE ".*," "" received "${received}")
+  math(EXPR quarter "${received} / 4")
+  if(NOT kept LESS quarter)  # optimised at steps 500, 1000 and at the end: under a quarter
+    message(FATAL_ERROR "q3_b_coursework kept ${kept} of ${received} observations")
+  endif()
+  # Timing: thread CPU time with the wall time beside it, the quarters split by step.
+  run(0 "optimisation: +201 runs, [0-9.]+ s CPU \\([0-9.]+ s wall\\) in total; median per optimisation [0-9.]+ ms CPU \\([0-9.]+ ms wall\\) in the first quarter of the steps"
+      ${TOOL} drivebot --experiment q1_e_i --max-steps 200 --out q1e_i)
+  file(STRINGS ${WORK}/q1e_i/steps.csv header LIMIT_COUNT 1)
+  if(NOT header MATCHES "optimization_time,optimization_cpu_time,.*,observations,gps$")
+    message(FATAL_ERROR "steps.csv header: ${header}")
+  endif()
   run(0 "prediction edges removed: keep-first.*graph: .* \\(1 prediction"
       ${TOOL} drivebot --experiment q3_a_keep_first --max-steps 600 --out q3a_keep_first)
   # Options override the preset; bad options are usage errors.
   run(0 "sensors odometry, gps, compass, optimise every 7 steps.*GPS.*compass"
       ${TOOL} drivebot --scenario q1_e --sensors gps,compass --optimize-every 7 --max-steps 100 --out q1e)
-  run(2 "--prune must be none, every-second, staggered or keyframe, not .often." ${TOOL} drivebot --scenario q1_b --prune often --out x)
+  run(2 "--prune must be none, every-second, coursework, staggered or keyframe, not .often." ${TOOL} drivebot --scenario q1_b --prune often --out x)
   run(2 "scenario 'q9' is neither built in" ${TOOL} drivebot --scenario q9 --out x)
   run(2 "needs --out" ${TOOL} drivebot --experiment q1_b)
   run(2 "unknown experiment" ${TOOL} drivebot --experiment q7 --out x)
-  run(0 "q2_d +laser SLAM without noise" ${TOOL} drivebot --list-experiments)
+  run(0 "q2_d +laser SLAM without noise.*q3_b_coursework +q3_a pruning as the coursework did" ${TOOL} drivebot --list-experiments)
   # Plots, when matplotlib is available.
   execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE no_mpl OUTPUT_QUIET ERROR_QUIET)
   if(no_mpl)
@@ -60,11 +78,17 @@ if(MODE STREQUAL "short")
     run(0 "loop closure: +at step 12[0-9][0-9].*plots:"
         ${TOOL} drivebot --experiment q2_d --out q2d --plot -q)
     expect_files(q2d errors.png covariance.png chi2.png optimization_time.png map.png loop_closure.png
-                 loop_closure.csv)
+                 loop_closure.csv loop_closure_vehicle.csv loop_closure_vehicle.png)
+    # A run that optimises only at its end has no chi2 or timing series: said, not drawn.
+    run(0 "chi2.png not drawn: the run optimised only after its last step.*optimization_time.png not drawn"
+        ${TOOL} drivebot --experiment q1_b --max-steps 300 --out q1b --plot -q)
+    if(EXISTS "${WORK}/q1b/chi2.png" OR EXISTS "${WORK}/q1b/optimization_time.png")
+      message(FATAL_ERROR "q1_b drew an empty chi2 or timing plot")
+    endif()
   endif()
 elseif(MODE STREQUAL "experiments")
   foreach(e q1_b q1_c_bug q1_c q1_d q1_e_i q1_e_ii q2_b q2_c q2_d q3_a q3_a_keep_first
-            q3_b_every_second q3_b_staggered q3_b_keyframe)
+            q3_b_coursework q3_b_every_second q3_b_staggered q3_b_keyframe)
     run(0 "final: +converged.*wrote" ${TOOL} drivebot --experiment ${e} --out ${e} -q)
   endforeach()
   run(1 "all prediction edges were removed" ${TOOL} drivebot --experiment q3_a_all --out q3_a_all -q)

@@ -351,6 +351,47 @@ TEST(DriveBot_Slam, PruningRules) {
   EXPECT_LT(e_none.head<2>().norm(), 1.0);
 }
 
+TEST(DriveBot_Slam, CourseworkPruningHalvesTheGraphAtEveryOptimisation) {
+  SlamSystemOptions options;
+  options.prune = PruneRule::kCoursework;
+  DriveBotSlamSystem slam(allSolvers(), options);
+  slam.processEvents({odometry(0.0, 1.0, 0.0), initial()});
+  // Landmark 1 ahead, landmark 2 to the left, both seen from every state.
+  auto scan = [&](int k) {
+    const double t = 0.1 * k, x = 0.1 * k;
+    slam.processEvents({odometry(t, 1.0, 0.0),
+                        landmarks(t, {{1, 10.0 - x, 0.0},
+                                      {2, std::hypot(5.0 - x, 5.0), std::atan2(5.0, 5.0 - x)}})});
+  };
+  auto optimised = [&] {
+    const TerminationStatus s = slam.optimize().status;
+    return s == TerminationStatus::kConverged || s == TerminationStatus::kMaxIterations;
+  };
+  auto edges_of = [&](int id) {
+    return slam.graph().vertex(slam.landmarkVertices().at(id))->edges().size();
+  };
+  for (int k = 1; k <= 8; ++k) scan(k);
+  EXPECT_EQ(edges_of(1), 8u);  // nothing pruned on arrival
+  ASSERT_TRUE(optimised());
+  EXPECT_EQ(edges_of(1), 4u);  // 1st, 3rd, 5th, 7th
+  EXPECT_EQ(edges_of(2), 4u);
+  for (int k = 9; k <= 16; ++k) scan(k);
+  EXPECT_EQ(edges_of(1), 12u);
+  ASSERT_TRUE(optimised());
+  // The 4 older ones are halved again, the 8 new ones once: 2 + 4.
+  EXPECT_EQ(edges_of(1), 6u);
+  // The kept ones are the first sighting and every other one after it, in time order.
+  std::vector<double> times;
+  for (const Edge* e : slam.graph().vertex(slam.landmarkVertices().at(1))->edges()) {
+    times.push_back(static_cast<const VertexVehicle*>(e->vertex(0))->time());
+  }
+  std::sort(times.begin(), times.end());
+  const std::vector<double> expected = {0.1, 0.5, 0.9, 1.3, 1.5, 1.9};
+  ASSERT_EQ(times.size(), expected.size());
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(times[k], expected[k], 1e-9) << k;
+  EXPECT_EQ(slam.statistics().observations_received, 32u);
+}
+
 TEST(DriveBot_Slam, LoopClosureShrinksTheMostRecentlySeenLandmarkMost) {
   SimulatorConfig sim;
   sim.enable_laser = true;

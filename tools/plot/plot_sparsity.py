@@ -3,6 +3,7 @@
 """Sparsity picture of a block matrix written by graphslam (`info --plot-hessian`).
 Input CSV: a line `n,<size>`, a header `row,col,rows,cols`, then one dense block per line.
 usage: plot_sparsity.py BLOCKS.csv OUT.png TITLE"""
+import os
 import sys
 
 import matplotlib
@@ -11,6 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_style as style  # noqa: E402
 
 
 def main():
@@ -32,7 +36,9 @@ def main():
     ax.set_ylim(n, 0)
     ax.set_aspect("equal")
     nnz = sum(h * w for _, _, h, w in blocks)
-    ax.set_title(f"{title}\n{n} x {n}, {nnz} non-zeros ({100.0 * nnz / max(n * n, 1):.3g} %)", fontsize=9)
+    style.title(ax, f"{title}\n{n} x {n}, {nnz} non-zeros ({100.0 * nnz / max(n * n, 1):.3g} %)")
+    ax.set_xlabel("column index")
+    ax.set_ylabel("row index")
     if n <= 60:
         ax.set_xticks(range(0, n + 1, 3))
         ax.set_yticks(range(0, n + 1, 3))

@@ -13,6 +13,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_style as style  # noqa: E402
+
 
 def plot(path, outdir):
     with open(path) as f:
@@ -29,7 +32,9 @@ def plot(path, outdir):
               vmin=0, vmax=1, aspect="auto" if aspect > 3 or aspect < 1 / 3 else "equal")
     density = 100.0 * nnz / (rows * cols)
     binned = "" if grows == rows and gcols == cols else f"; {grows}x{gcols} cells, dark = any"
-    ax.set_title(f"{title}\n{rows} x {cols}, nnz {nnz} ({density:.3g} %){binned}", fontsize=9)
+    style.title(ax, f"{title}\n{rows} x {cols}, nnz {nnz} ({density:.3g} %){binned}")
+    ax.set_xlabel("column index")
+    ax.set_ylabel("row index")
     ax.tick_params(labelsize=7)
     fig.tight_layout()
     out = os.path.join(outdir, os.path.splitext(os.path.basename(path))[0] + ".png")

@@ -30,10 +30,14 @@ struct StepRecord {
   bool optimized = false;
   double chi2 = std::nan("");
   double optimization_time = std::nan("");  ///< wall time of optimize() [s]
+  /// CPU time of the calling thread in optimize() [s]: unlike the wall time it does not
+  /// count the time the thread waited for a core on a busy machine.
+  double optimization_cpu_time = std::nan("");
   int iterations = 0;
   std::size_t vertices = 0;
   std::size_t edges = 0;
   std::size_t observations = 0;  ///< landmark observations in this step's events
+  bool gps = false;              ///< this step's events include a GPS fix
 };
 
 struct RunOptions {
@@ -58,6 +62,8 @@ struct MapSnapshot {
   Eigen::Matrix3d vehicle_covariance = Eigen::Matrix3d::Zero();
   std::vector<LandmarkEstimate> landmarks;
   MarginalSummary marginals;
+  /// Every vehicle vertex's estimate and covariance diagonal at this moment.
+  VehicleHistory vehicle_history;
 };
 
 struct LoopClosure {
@@ -85,7 +91,8 @@ struct RunResult {
   /// The constraint check of the last optimisation: vertices without edges were not
   /// estimated (they keep their predictions).
   ConstraintReport constraints;
-  double total_optimization_time = 0.0;  ///< sum over every optimize() call [s]
+  double total_optimization_time = 0.0;      ///< wall time, sum over every optimize() call [s]
+  double total_optimization_cpu_time = 0.0;  ///< the same as thread CPU time [s]
   int optimizations = 0;
 };
 

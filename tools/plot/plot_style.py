@@ -1,0 +1,80 @@
+# SPDX-License-Identifier: MIT
+"""One style for graphslam's plots, shared by the scripts in this folder:
+- titles name files by their base name (never an absolute path) and are wrapped to the
+  width of the figure, so they are never clipped;
+- axes carry units in brackets ("time [s]", "APE [m]"); an index is called what it is;
+- a plot with nothing to show is not drawn: `not_drawn` says which and why on stdout;
+- chi2 is drawn on a linear axis unless the caller asks for a log one.
+Scripts run with matplotlib's Agg backend, imported before this module."""
+import os
+import textwrap
+
+DPI = 100
+
+
+def clean_title(text):
+    """`text` with every absolute path replaced by its file name."""
+    words = []
+    for word in str(text).split(" "):
+        core = word.strip("()[],;:'\"")
+        if core.startswith("/") and len(core) > 1:
+            word = word.replace(core, os.path.basename(core.rstrip("/")) or core)
+        words.append(word)
+    return " ".join(words)
+
+
+def wrap(text, width_inches, fontsize=9):
+    """`text` (cleaned) broken into lines that fit `width_inches` at `fontsize` points."""
+    chars = max(20, int(width_inches * 72.0 / (0.55 * fontsize)))
+    lines = []
+    for line in clean_title(text).split("\n"):
+        lines.extend(textwrap.wrap(line, chars) or [""])
+    return "\n".join(lines)
+
+
+def title(ax, text, fontsize=9):
+    """Axes title wrapped to the axes' width."""
+    fig = ax.get_figure()
+    width = fig.get_figwidth() * ax.get_position().width
+    ax.set_title(wrap(text, width, fontsize), fontsize=fontsize)
+
+
+def suptitle(fig, text, fontsize=9):
+    fig.suptitle(wrap(text, fig.get_figwidth(), fontsize), fontsize=fontsize)
+
+
+def not_drawn(name, why, path=None):
+    """Says that plot `name` was not drawn, and why (no empty placeholder figures); removes
+    `path`, a picture of that name left by an earlier run, so none is taken for this one's."""
+    if path and os.path.exists(path):
+        os.remove(path)
+    print(f"  {name} not drawn: {why}")
+
+
+def save(fig, path, rect=None):
+    """Lays out (titles included) and writes the figure, then closes it."""
+    import matplotlib.pyplot as plt
+
+    if rect is None:
+        fig.tight_layout()
+    else:
+        fig.tight_layout(rect=rect)
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def chi2_axis(ax, values, log=False):
+    """Linear chi2 axis from 0 (log only when asked). Values at rounding level (an exactly
+    consistent graph) are drawn as what they are, zero, with a note."""
+    ax.set_ylabel("chi2 [-]")
+    top = max(values) if values else 0.0
+    if log and top > 0:
+        ax.set_yscale("log")
+        ax.set_ylabel("chi2 [-] (log scale)")
+        return
+    if top < 1e-9:
+        ax.set_ylim(-1.0, 1.0)
+        ax.text(0.02, 0.9, f"chi2 at rounding level (largest {top:.2g}): the graph is exactly consistent",
+                transform=ax.transAxes, fontsize=8)
+    else:
+        ax.set_ylim(bottom=0, top=1.05 * top)
