@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "factor_graph_dot.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
-#include <map>
 #include <vector>
 
 #include "cli_common.h"
@@ -35,6 +36,22 @@ std::string shortVertexTag(std::string tag) {
   return tag;
 }
 
+std::string htmlEscaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') {
+      out += "&lt;";
+    } else if (c == '>') {
+      out += "&gt;";
+    } else if (c == '&') {
+      out += "&amp;";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 std::string quoted(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
@@ -55,9 +72,9 @@ std::string extensionOf(const std::string& path) {
 
 void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegistry& types,
                          const std::string& title) {
-  // A spring layout (neato): chains stay chains and loops stay loops.
+  // A spring layout (neato): chains stay chains and loops stay loops. The legend of the
+  // factor types is part of the title (an HTML label): neato ignores clusters.
   out << "graph factor_graph {\n  layout=neato; overlap=false; sep=\"+4\"; fontsize=12;\n"
-      << "  label=" << quoted(title) << "; labelloc=t;\n"
       << "  node [fontsize=9, fontname=\"Helvetica\"];\n  edge [color=\"#666666\"];\n";
   for (const auto& [id, v] : graph.vertices()) {
     out << "  v" << id << " [shape=" << (v->fixed() ? "doublecircle" : "circle")
@@ -65,13 +82,14 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
         << (v->fixed() ? "\"#bbbbbb\"" : "\"#ffffff\"") << ", label="
         << quoted(std::to_string(id) + "\n" + shortVertexTag(tagOf(types, *v))) << "];\n";
   }
-  std::map<std::string, std::string> color;  // edge tag -> colour
+  std::vector<std::pair<std::string, std::string>> color;  // edge tag, colour; first seen first
   std::size_t k = 0;
   for (const auto& e : graph.edges()) {
     const std::string tag = tagOf(types, *e);
-    auto it = color.find(tag);
+    auto it = std::find_if(color.begin(), color.end(), [&](const auto& c) { return c.first == tag; });
     if (it == color.end()) {
-      it = color.emplace(tag, kColors[color.size() % (sizeof kColors / sizeof *kColors)]).first;
+      color.emplace_back(tag, kColors[color.size() % (sizeof kColors / sizeof *kColors)]);
+      it = color.end() - 1;
     }
     out << "  f" << k << " [shape=square, label=\"\", width=0.12, height=0.12, style=filled, "
         << "color=" << quoted(it->second) << "];\n";
@@ -80,13 +98,12 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
     }
     ++k;
   }
-  out << "  subgraph cluster_legend {\n    label=\"factors\"; fontsize=9; color=\"#cccccc\";\n";
-  k = 0;
+  out << "  labelloc=t; label=<" << htmlEscaped(title)
+      << "<br/><font point-size=\"10\">circles: variables (grey: fixed); squares: factors";
   for (const auto& [tag, c] : color) {
-    out << "    legend" << k++ << " [shape=box, style=filled, fillcolor=" << quoted(c)
-        << ", fontcolor=white, fontsize=8, height=0.2, label=" << quoted(tag) << "];\n";
+    out << "&nbsp;&nbsp;<font color=\"" << c << "\">&#9632; " << htmlEscaped(tag) << "</font>";
   }
-  out << "  }\n}\n";
+  out << "</font>>;\n}\n";
 }
 
 void plotFactorGraph(const std::string& out, const Graph& graph, const TypeRegistry& types,

@@ -21,7 +21,7 @@ struct FactorGraphPlotOptions {
 
 /// Writes the factor graph in Graphviz's dot language: a circle per vertex (label: id and
 /// type; fixed vertices grey and double-circled), a small square per edge (coloured by type)
-/// joined to the vertices it constrains, and a legend of the edge types.
+/// joined to the vertices it constrains, and the edge types' colours under the title.
 void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegistry& types,
                          const std::string& title);
 

@@ -31,3 +31,17 @@ step("wrote nl0.g2o: CMU 16-833 homework file, bearing-range observations: 100 p
      ${TOOL} convert ${seeds}/2d_nonlinear.npz nl0.g2o)
 step("chi2: +8623.3224[0-9]* -> 1555.1896[0-9]*\niterations: +10"
      ${TOOL} optimize nl0.g2o --init none --algorithm gn -i 10 --function-tolerance 0 --step-tolerance 0)
+# Sparsity pictures: block-llt (the default solver's factorisation) exports its factor, and
+# each picture's title gives the solver table's nnz(factor).
+execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE no_mpl OUTPUT_QUIET ERROR_QUIET)
+if(NOT no_mpl)
+  step("block-llt +amd +H .* 42880 .*wrote 3 pictures into spy"
+       ${TOOL} solvers ${seeds}/2d_linear_loop.npz --solvers block-llt:amd --repeats 1 --plot spy)
+  file(STRINGS ${WORK}/spy/data/2d_linear_loop_block-llt_amd.csv head LIMIT_COUNT 1)
+  if(NOT head MATCHES "^800,800,42880,")
+    message(FATAL_ERROR "block-llt's factor picture: ${head}, expected 42880 non-zeros as in the table")
+  endif()
+  if(NOT EXISTS "${WORK}/spy/2d_linear_loop_block-llt_amd.png")
+    message(FATAL_ERROR "no picture of block-llt's factor")
+  endif()
+endif()

@@ -96,11 +96,12 @@ def chi2_plot(opt, out_dir, title, log):
 
 def timing_plot(opt, out_dir, title):
     """Thread CPU time per optimisation, one series per kind of step, and the wall time
-    beside it (pre-emption on a busy machine shows in the wall time only)."""
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    top = 0.0
+    beside it on its own scale (pre-emption on a busy machine shows in the wall time only,
+    as outliers that would flatten the CPU time on a shared axis)."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax, key, what in ((axes[0], "optimization_cpu_time", "thread CPU time"),
                           (axes[1], "optimization_time", "wall time")):
+        top = 0.0
         for name, color, is_kind in KINDS:
             rows = [r for r in opt if is_kind(r)]
             if not rows:
@@ -108,11 +109,11 @@ def timing_plot(opt, out_dir, title):
             ms = [1e3 * v for v in column(rows, key)]
             top = max(top, max(ms))
             ax.plot(column(rows, "time"), ms, "*", ms=3, color=color, label=f"{name} ({len(rows)} steps)")
+        ax.set_ylim(0, 1.05 * top if top > 0 else 1.0)
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"optimisation {what} [ms]")
         ax.legend(fontsize=7, loc="upper left")
         style.title(ax, f"{what} of each optimisation, by the step's events")
-    axes[0].set_ylim(0, 1.05 * top if top > 0 else 1.0)
     style.suptitle(fig, title)
     style.save(fig, os.path.join(out_dir, "optimization_time.png"))
 

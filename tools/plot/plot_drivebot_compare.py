@@ -72,7 +72,7 @@ def main(argv):
         ax.set_xlabel("time [s]")
     for ax, what in zip([a for row in axes for a in row],
                         ["error of the final smoothed estimate", "marginal position variance of each state",
-                         "chi2 after each optimisation", "optimisation time so far"]):
+                         "chi2 after each optimisation", "optimisation CPU time during the run, cumulative"]):
         style.title(ax, what)
     for ax in (axes[0][0], axes[0][1], axes[1][1]):
         ax.set_ylim(bottom=0)

@@ -67,8 +67,11 @@ def trajectories(out_dir, metric, title, names, ref, est_all, missing):
         extra = read(os.path.join(out_dir, f"{metric}_with{k}.csv"))
         ax.plot(extra["x"], extra["y"], "-s", color=colors[k % len(colors)], ms=3,
                 label=f"{name} ({len(extra['t'])} poses, as read)")
+        # Written towards the middle of the plot, so it is never cut at the border.
+        right = extra["x"][-1] > 0.5 * (min(extra["x"]) + max(extra["x"]))
         ax.annotate(loop_note(extra), (extra["x"][-1], extra["y"][-1]), textcoords="offset points",
-                    xytext=(6, 6), fontsize=8, color=colors[k % len(colors)])
+                    xytext=(-8 if right else 8, 8), ha="right" if right else "left", fontsize=8,
+                    color=colors[k % len(colors)])
     mark_unmatched(ax, est_all, missing)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
