@@ -49,8 +49,8 @@ constexpr double kAgreement = 1e-8;
 /// Writes a sparsity pattern for tools/plot/plot_spy.py: a header line
 /// `rows,cols,nnz,title`, then `r,c,count` per occupied cell of a grid of at most
 /// 1000 x 1000 cells (the tool bins large matrices itself). `reported_nnz` (0: none) is the
-/// solver table's nnz(factor): the picture's title gives it, and the pattern's own count
-/// beside it when the two differ (a backend that stores more than it reports).
+/// solver table's nnz(factor): when the pattern drawn has another count (UMFPACK exports U
+/// but counts L and U, SPQR counts R's stored entries) the title gives both.
 void writePattern(const std::string& path, int rows, int cols, const std::vector<int>& ptr,
                   const std::vector<int>& idx, std::string title, bool upper_only,
                   std::size_t reported_nnz = 0) {
@@ -68,8 +68,7 @@ void writePattern(const std::string& path, int rows, int cols, const std::vector
     }
   }
   if (reported_nnz != 0 && reported_nnz != nnz) {
-    title += " (pattern stored: " + std::to_string(nnz) + " entries)";
-    nnz = reported_nnz;
+    title += " (the table's nnz(factor): " + std::to_string(reported_nnz) + ")";
   }
   writeFileAtomically(path, [&](std::ostream& out) {
     out << rows << ',' << cols << ',' << nnz << ',' << std::min(rows, grid) << ','
