@@ -3,6 +3,7 @@
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <iostream>
 #include <map>
@@ -348,7 +349,9 @@ void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summa
                    const Graph& graph, const std::map<VertexId, Eigen::Vector2d>& initial_positions,
                    const homework::PointGroundTruth& truth) {
   std::ostringstream title;
-  title << (o.input.empty() ? std::string("built-in default graph") : o.input) << ": chi2 "
+  title << (o.input.empty() ? std::string("built-in default graph")
+                            : std::filesystem::path(o.input).filename().string())
+        << ": chi2 "
         << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
         << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
   plotPoints(png, title.str(), graph, initial_positions, truth, o.plot);
