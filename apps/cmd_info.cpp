@@ -16,6 +16,38 @@
 
 namespace graphslam::apps {
 
+namespace {
+
+/// --plot-hessian: the block pattern of H (columns of each vertex in `column`, `n` in all).
+void plotHessian(const std::string& plot, const std::string& input, const Graph& graph,
+                 const std::map<VertexId, std::pair<int, int>>& column, int n) {
+  if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");
+  const std::string data = plot + ".blocks.csv";
+  const TemporaryFile remove_data{data};
+  writeFileAtomically(data, [&](std::ostream& out) {
+    out << "n," << n << "\nrow,col,rows,cols\n";
+    auto block = [&](VertexId a, VertexId b) {
+      const auto [ra, da] = column.at(a);
+      const auto [rb, db] = column.at(b);
+      out << ra << ',' << rb << ',' << da << ',' << db << '\n';
+    };
+    for (const auto& [id, v] : graph.vertices()) block(id, id);
+    for (const auto& e : graph.edges()) {
+      for (std::size_t s = 0; s < e->numVertices(); ++s) {
+        for (std::size_t t = 0; t < e->numVertices(); ++t) {
+          if (s != t) block(e->vertexId(s), e->vertexId(t));
+        }
+      }
+    }
+  });
+  runPlotScript("plot_sparsity.py",
+                {data, plot,
+                 "Information matrix H of " + std::filesystem::path(input).filename().string()});
+  std::printf("wrote %s\n", plot.c_str());
+}
+
+}  // namespace
+
 int cmdInfo(const std::vector<std::string>& args) {
   std::string input, plot, plot_graph, information = "refuse";
   FactorGraphPlotOptions graph_plot;
@@ -112,31 +144,7 @@ int cmdInfo(const std::vector<std::string>& args) {
   std::printf("information matrix H: %d x %d\n", n, n);
   printObservability(in, reg.types);
 
-  if (!plot.empty()) {
-    if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");
-    const std::string data = plot + ".blocks.csv";
-    const TemporaryFile remove_data{data};
-    writeFileAtomically(data, [&](std::ostream& out) {
-      out << "n," << n << "\nrow,col,rows,cols\n";
-      auto block = [&](VertexId a, VertexId b) {
-        const auto [ra, da] = column[a];
-        const auto [rb, db] = column[b];
-        out << ra << ',' << rb << ',' << da << ',' << db << '\n';
-      };
-      for (const auto& [id, v] : graph.vertices()) block(id, id);
-      for (const auto& e : graph.edges()) {
-        for (std::size_t s = 0; s < e->numVertices(); ++s) {
-          for (std::size_t t = 0; t < e->numVertices(); ++t) {
-            if (s != t) block(e->vertexId(s), e->vertexId(t));
-          }
-        }
-      }
-    });
-    runPlotScript("plot_sparsity.py",
-                  {data, plot,
-                   "Information matrix H of " + std::filesystem::path(input).filename().string()});
-    std::printf("wrote %s\n", plot.c_str());
-  }
+  if (!plot.empty()) plotHessian(plot, input, graph, column, n);
   if (!plot_graph.empty()) {
     graph_plot.title = "factor graph of " + std::filesystem::path(input).filename().string() + ": " +
                        std::to_string(graph.numVertices()) + " variables, " +

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cli_common.h"
+#include "eval_plot_data.h"
 #include "graphslam/core/error.h"
 #include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
@@ -142,17 +143,6 @@ std::string statsTable(const ErrorStatistics& s) {
 }
 
 std::string jsonNumber(double x) { return std::isfinite(x) ? formatDouble(x) : "null"; }
-
-void writePositionsCsv(const std::string& path, const Trajectory& t) {
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "t,x,y,z\n";
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      const Eigen::Vector3d p = t.position(i);
-      out << formatDouble(t.timestamp(i)) << ',' << formatDouble(p.x()) << ','
-          << formatDouble(p.y()) << ',' << formatDouble(p.z()) << '\n';
-    }
-  });
-}
 
 /// The options of graphslam eval.
 struct EvalOptions {
@@ -328,29 +318,6 @@ void saveResults(const std::string& save, const std::string& metric, const std::
   }
 }
 
-/// Every pose of `est`, with the alignment the metric applied to the associated ones (so
-/// poses without a reference, e.g. a 13th pose closing a loop of 12, are drawn too).
-void writeAlignedPositionsCsv(const std::string& path, const Trajectory& est, const EvalResult& e) {
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "t,x,y,z\n";
-    for (std::size_t i = 0; i < est.size(); ++i) {
-      const Eigen::Vector3d p =
-          e.origin_transform *
-          (e.umeyama.scale * e.umeyama.rotation * est.position(i) + e.umeyama.translation);
-      out << formatDouble(est.timestamp(i)) << ',' << formatDouble(p.x()) << ','
-          << formatDouble(p.y()) << ',' << formatDouble(p.z()) << '\n';
-    }
-  });
-}
-
-/// The unit in "translation part (m)": "m"; "unit-less" becomes "-".
-std::string unitOf(const std::string& relation_title) {
-  const auto open = relation_title.rfind('('), close = relation_title.rfind(')');
-  if (open == std::string::npos || close == std::string::npos || close < open) return "-";
-  const std::string unit = relation_title.substr(open + 1, close - open - 1);
-  return unit == "unit-less" ? "-" : unit;
-}
-
 std::string baseName(const std::string& path) {
   return std::filesystem::path(path).filename().string();
 }
@@ -372,7 +339,7 @@ void plotEval(const EvalOptions& o, const std::string& title, const std::string&
   try {
     writePositionsCsv(stem + "_reference.csv", e.ref_used);
     writePositionsCsv(stem + "_estimate.csv", e.est_used);
-    writeAlignedPositionsCsv(stem + "_estimate_all.csv", est, e);
+    writeAlignedPositionsCsv(stem + "_estimate_all.csv", est, e.umeyama, e.origin_transform);
     for (std::size_t k = 0; k < extra.size(); ++k) {
       writePositionsCsv(stem + "_with" + std::to_string(k) + ".csv", extra[k]);
     }
