@@ -40,9 +40,9 @@ void plotHessian(const std::string& plot, const std::string& input, const Graph&
       }
     }
   });
-  runPlotScript("plot_sparsity.py",
-                {data, plot,
-                 "Information matrix H of " + std::filesystem::path(input).filename().string()});
+  runPlotScript(
+      "plot_sparsity.py",
+      {data, plot, "Information matrix H of " + std::filesystem::path(input).filename().string()});
   std::printf("wrote %s\n", plot.c_str());
 }
 
@@ -146,8 +146,8 @@ int cmdInfo(const std::vector<std::string>& args) {
 
   if (!plot.empty()) plotHessian(plot, input, graph, column, n);
   if (!plot_graph.empty()) {
-    graph_plot.title = "factor graph of " + std::filesystem::path(input).filename().string() + ": " +
-                       std::to_string(graph.numVertices()) + " variables, " +
+    graph_plot.title = "factor graph of " + std::filesystem::path(input).filename().string() +
+                       ": " + std::to_string(graph.numVertices()) + " variables, " +
                        std::to_string(graph.numEdges()) + " factors";
     plotFactorGraph(plot_graph, graph, reg.types, graph_plot);
   }

@@ -325,13 +325,13 @@ std::string baseName(const std::string& path) {
 void plotEval(const EvalOptions& o, const std::string& title, const std::string& unit,
               const EvalResult& e, const Trajectory& est, const std::vector<Trajectory>& extra) {
   const std::string stem = o.plot_dir + "/" + o.metric;
-  std::vector<std::string> files = {"_reference.csv", "_estimate.csv", "_estimate_all.csv",
-                                    "_errors.csv", "_trajectories.png", "_error.png",
+  std::vector<std::string> files = {"_reference.csv", "_estimate.csv",     "_estimate_all.csv",
+                                    "_errors.csv",    "_trajectories.png", "_error.png",
                                     "_error_map.png"};
-  std::vector<std::string> args = {o.plot_dir, o.metric,
-                                   title + "\n" + baseName(o.est_path) + " against " +
-                                       baseName(o.ref_path),
-                                   unit, baseName(o.est_path)};
+  std::vector<std::string> args = {
+      o.plot_dir, o.metric,
+      title + "\n" + baseName(o.est_path) + " against " + baseName(o.ref_path), unit,
+      baseName(o.est_path)};
   for (std::size_t k = 0; k < extra.size(); ++k) {
     files.push_back("_with" + std::to_string(k) + ".csv");
     args.push_back(baseName(o.plot_with[k]));

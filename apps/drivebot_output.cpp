@@ -133,11 +133,11 @@ void writeSummary(const std::string& path, const RunResult& r) {
     const Summary& f = r.final_summary;
     out << "quantity,value\nsteps," << r.steps.size() << "\noptimizations," << r.optimizations
         << "\ntotal_optimization_time," << num(r.total_optimization_time)
-        << "\ntotal_optimization_cpu_time," << num(r.total_optimization_cpu_time) << "\nfinal_status,"
-        << toString(f.status) << "\nfinal_chi2," << num(f.final_chi2) << "\nfinal_iterations,"
-        << f.iterations << "\nfinal_time," << num(f.total_time) << "\nvehicle_marginals_time,"
-        << num(r.history_marginals.total_time) << "\nlandmark_marginals_time,"
-        << num(r.landmark_marginals.total_time) << "\n";
+        << "\ntotal_optimization_cpu_time," << num(r.total_optimization_cpu_time)
+        << "\nfinal_status," << toString(f.status) << "\nfinal_chi2," << num(f.final_chi2)
+        << "\nfinal_iterations," << f.iterations << "\nfinal_time," << num(f.total_time)
+        << "\nvehicle_marginals_time," << num(r.history_marginals.total_time)
+        << "\nlandmark_marginals_time," << num(r.landmark_marginals.total_time) << "\n";
   });
 }
 

@@ -26,8 +26,7 @@ void writePositionsCsv(const std::string& path, const eval::Trajectory& trajecto
 }
 
 void writeAlignedPositionsCsv(const std::string& path, const eval::Trajectory& trajectory,
-                              const eval::UmeyamaResult& umeyama,
-                              const Eigen::Isometry3d& origin) {
+                              const eval::UmeyamaResult& umeyama, const Eigen::Isometry3d& origin) {
   writeRows(path, trajectory, origin, umeyama);
 }
 

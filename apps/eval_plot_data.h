@@ -17,8 +17,7 @@ void writePositionsCsv(const std::string& path, const eval::Trajectory& trajecto
 /// associated poses, x -> origin * (s R x + t): the poses without a reference (e.g. a 13th
 /// pose closing a loop of 12) are drawn where the compared ones are.
 void writeAlignedPositionsCsv(const std::string& path, const eval::Trajectory& trajectory,
-                              const eval::UmeyamaResult& umeyama,
-                              const Eigen::Isometry3d& origin);
+                              const eval::UmeyamaResult& umeyama, const Eigen::Isometry3d& origin);
 
 /// The unit in a pose-relation title, "translation part (m)" -> "m"; "unit-less" -> "-".
 [[nodiscard]] std::string unitOf(const std::string& relation_title);

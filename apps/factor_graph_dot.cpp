@@ -79,14 +79,16 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
   for (const auto& [id, v] : graph.vertices()) {
     out << "  v" << id << " [shape=" << (v->fixed() ? "doublecircle" : "circle")
         << ", margin=0.02, width=0.45, style=filled, fillcolor="
-        << (v->fixed() ? "\"#bbbbbb\"" : "\"#ffffff\"") << ", label="
-        << quoted(std::to_string(id) + "\n" + shortVertexTag(tagOf(types, *v))) << "];\n";
+        << (v->fixed() ? "\"#bbbbbb\"" : "\"#ffffff\"")
+        << ", label=" << quoted(std::to_string(id) + "\n" + shortVertexTag(tagOf(types, *v)))
+        << "];\n";
   }
   std::vector<std::pair<std::string, std::string>> color;  // edge tag, colour; first seen first
   std::size_t k = 0;
   for (const auto& e : graph.edges()) {
     const std::string tag = tagOf(types, *e);
-    auto it = std::find_if(color.begin(), color.end(), [&](const auto& c) { return c.first == tag; });
+    auto it =
+        std::find_if(color.begin(), color.end(), [&](const auto& c) { return c.first == tag; });
     if (it == color.end()) {
       color.emplace_back(tag, kColors[color.size() % (sizeof kColors / sizeof *kColors)]);
       it = color.end() - 1;
@@ -108,21 +110,22 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
 
 void plotFactorGraph(const std::string& out, const Graph& graph, const TypeRegistry& types,
                      const FactorGraphPlotOptions& options) {
-  if (graph.numVertices() == 0) throw UsageError("the graph has no vertices: no factor graph to draw");
+  if (graph.numVertices() == 0)
+    throw UsageError("the graph has no vertices: no factor graph to draw");
   if (graph.numVertices() > options.max_vertices) {
-    throw UsageError("--plot-graph draws graphs of at most " +
-                     std::to_string(options.max_vertices) + " vertices (--plot-graph-max), this one has " +
-                     std::to_string(graph.numVertices()) +
-                     ": draw a smaller part, e.g. the first steps of a run (drivebot --max-steps N)");
+    throw UsageError(
+        "--plot-graph draws graphs of at most " + std::to_string(options.max_vertices) +
+        " vertices (--plot-graph-max), this one has " + std::to_string(graph.numVertices()) +
+        ": draw a smaller part, e.g. the first steps of a run (drivebot --max-steps N)");
   }
   const std::string ext = extensionOf(out);
   if (ext != "dot" && ext != "png" && ext != "svg" && ext != "pdf") {
-    throw UsageError("--plot-graph writes FILE.dot, FILE.png, FILE.svg or FILE.pdf, not '" + out + "'");
+    throw UsageError("--plot-graph writes FILE.dot, FILE.png, FILE.svg or FILE.pdf, not '" + out +
+                     "'");
   }
   const std::string dot_file = ext == "dot" ? out : out + ".dot";
-  writeFileAtomically(dot_file, [&](std::ostream& s) {
-    writeFactorGraphDot(s, graph, types, options.title);
-  });
+  writeFileAtomically(
+      dot_file, [&](std::ostream& s) { writeFactorGraphDot(s, graph, types, options.title); });
   if (ext == "dot") {
     std::printf("wrote %s (draw it with: dot -Tpng %s -o FILE.png)\n", out.c_str(), out.c_str());
     return;

@@ -3,8 +3,8 @@
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -351,8 +351,7 @@ void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summa
   std::ostringstream title;
   title << (o.input.empty() ? std::string("built-in default graph")
                             : std::filesystem::path(o.input).filename().string())
-        << ": chi2 "
-        << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
+        << ": chi2 " << summary.initial_chi2 << " -> " << summary.final_chi2 << " ("
         << toString(summary.algorithm) << ", " << summary.iterations << " iterations)";
   plotPoints(png, title.str(), graph, initial_positions, truth, o.plot);
 }

@@ -8,7 +8,6 @@
 
 namespace graphslam::drivebot {
 
-
 namespace {
 
 /// CPU time of the calling thread [s].

@@ -25,7 +25,6 @@ class EdgeVehicleKinematics;
 
 namespace graphslam::drivebot {
 
-
 /// Which vehicle prediction (kinematics) edges optimize() removes first (coursework Q3a).
 enum class PredictionEdgeRemoval {
   kNone,       ///< keep them all
