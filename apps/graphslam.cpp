@@ -447,12 +447,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
                 << (edges.size() == 1 ? "its edge is on " : "its edges are on ") << lines << " of "
                 << o.input << "\n";
     }
-    const std::string edge_line = summary.failed_edge < 0
-                                      ? std::string()
-                                      : edgeLines({static_cast<std::size_t>(summary.failed_edge)},
-                                                  in.edge_lines, graph.numEdges());
-    if (!edge_line.empty())
-      std::cerr << "that edge is on " << edge_line << " of " << o.input << "\n";
+    std::cerr << failedEdgeNote(summary.failed_edge, in.edge_lines, graph.numEdges(), o.input);
     if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
