@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "builtins.h"
 
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 
 #include "graphslam/core/error.h"
@@ -79,7 +82,18 @@ std::vector<std::unique_ptr<Plugin>> loadTypesAndSolvers(TypeRegistry& types,
   return loadPlugins(files, types, solvers);
 }
 
+void exitOutOfMemory(const std::string& command) {
+  std::cout.flush();
+  std::cerr << "graphslam " << command
+            << ": out of memory: the work needs more memory than this process may use\n";
+  std::cerr.flush();
+  std::_Exit(1);
+}
+
 void configureProcess() {
+  // Under a file size limit (ulimit -f) a write past it fails with EFBIG, reported with the
+  // file's name and the staged outputs removed, instead of SIGXFSZ ending the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   solvers::installCholmodPrefaultingAllocator();
   solvers::serializeCholmodOpenMp();
   setLargeArrayRetention(LargeArrayRetention{});

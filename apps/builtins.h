@@ -28,7 +28,13 @@ namespace graphslam::apps {
 
 /// The tool's process-wide settings, made once at start-up (the library makes none by
 /// itself): SuiteSparse's allocations faulted in on two threads, CHOLMOD's OpenMP loops
-/// serial, and freed huge-page arrays kept for the next optimisation.
+/// serial, freed huge-page arrays kept for the next optimisation, and SIGXFSZ ignored (a
+/// write past a file size limit then fails with EFBIG and is reported).
 void configureProcess();
+
+/// Reports "graphslam COMMAND: out of memory ..." and ends the process with exit code 1
+/// without the libraries' shutdown: after an allocation failure OpenBLAS's can wait forever
+/// for a worker thread.
+[[noreturn]] void exitOutOfMemory(const std::string& command);
 
 }  // namespace graphslam::apps

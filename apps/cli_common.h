@@ -3,6 +3,8 @@
 #pragma once
 
 #include <boost/program_options.hpp>
+#include <cerrno>
+#include <cstdlib>
 #include <initializer_list>
 #include <iostream>
 #include <memory>
@@ -40,13 +42,36 @@ inline void loadRegistries(Registries& r, const std::vector<std::string>& plugin
   r.plugins = loadTypesAndSolvers(r.types, r.solvers, plugins);
 }
 
+/// program_options' "the argument ('V') for option '--x' is invalid", saying "is out of
+/// range" instead when V is a number the option's type cannot hold (an integer beyond an
+/// int, 1e400).
+inline std::string invalidValueMessage(const std::string& what) {
+  const std::size_t open = what.find("('"), close = what.find("')"), at = what.rfind(" is invalid");
+  if (open == std::string::npos || close == std::string::npos || close < open ||
+      at == std::string::npos) {
+    return what;
+  }
+  const std::string value = what.substr(open + 2, close - open - 2);
+  errno = 0;
+  char* end = nullptr;
+  std::strtod(value.c_str(), &end);
+  const bool number = !value.empty() && end == value.c_str() + value.size();
+  const bool integer = number && value.find_first_not_of("+-0123456789") == std::string::npos;
+  if (!integer && !(number && errno == ERANGE)) return what;
+  return what.substr(0, at) + " is out of range" + what.substr(at + 11);
+}
+
 inline po::variables_map parse(const std::vector<std::string>& args,
                                const po::options_description& desc,
                                const po::positional_options_description* pos = nullptr) {
   po::variables_map vm;
   auto parser = po::command_line_parser(args).options(desc);
   if (pos) parser.positional(*pos);
-  po::store(parser.run(), vm);
+  try {
+    po::store(parser.run(), vm);
+  } catch (const po::invalid_option_value& e) {
+    throw UsageError(invalidValueMessage(e.what()));
+  }
   po::notify(vm);
   return vm;
 }

@@ -398,11 +398,14 @@ int cmdEval(const std::vector<std::string>& args) {
   if (o.metric == "rpe") title += ", delta " + formatDouble(o.delta) + " " + o.unit;
   std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
               statsTable(e.stats).c_str(), e.ref_used.size(), e.errors.size(), e.seconds);
-  if (!o.save.empty()) saveResults(outputs.staged(o.save), o.metric, title, mode, e);
-  if (!o.plot_dir.empty()) {
-    plotEval(o, title + " " + mode, unitOf(relationTitle(rel)), e, est, extra);
-  }
-  outputs.commit();
+  outputs.writeAll([&] {
+    if (!o.save.empty()) saveResults(outputs.staged(o.save), o.metric, title, mode, e);
+    if (!o.plot_dir.empty()) {
+      plotEval(o, title + " " + mode, unitOf(relationTitle(rel)), e, est, extra);
+    }
+    outputs.commit();
+    return kExitOk;
+  });
   if (!o.save.empty()) std::printf("wrote %s\n", o.save.c_str());
   return kExitOk;
 }

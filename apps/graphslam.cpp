@@ -362,29 +362,31 @@ int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& gr
                          const Registries& reg, const LoadedInput& in, const Summary& summary,
                          const std::vector<std::string>& csv, const outliers::GncResult& gnc,
                          const std::map<VertexId, Eigen::Vector2d>& initial_positions) {
-  if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
-    const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
-                                  o.marginals_file);
-    if (rc != kExitOk) {
-      outputs.abort();
-      std::cerr << "no output written\n";
-      return rc;
+  return outputs.writeAll([&] {
+    if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
+      const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
+                                    o.marginals_file);
+      if (rc != kExitOk) {
+        outputs.abort();
+        std::cerr << "no output written\n";
+        return rc;
+      }
     }
-  }
-  if (!o.stats_file.empty()) writeStats(outputs.staged(o.stats_file), csv);
-  if (!o.outliers.outliers_file.empty()) {
-    writeOutliersFile(outputs.staged(o.outliers.outliers_file), gnc, in.edge_lines,
-                      o.outliers.outliers_file);
-  }
-  if (!o.output.empty()) {
-    io::saveG2o(outputs.staged(o.output), graph, reg.types);
-    std::cout << "wrote " << o.output << "\n";
-  }
-  if (!o.plot.empty()) {
-    plotOptimized(o, outputs.staged(o.plot), summary, graph, initial_positions, in.ground_truth);
-  }
-  outputs.commit();
-  return kExitOk;
+    if (!o.stats_file.empty()) writeStats(outputs.staged(o.stats_file), csv);
+    if (!o.outliers.outliers_file.empty()) {
+      writeOutliersFile(outputs.staged(o.outliers.outliers_file), gnc, in.edge_lines,
+                        o.outliers.outliers_file);
+    }
+    if (!o.output.empty()) {
+      io::saveG2o(outputs.staged(o.output), graph, reg.types);
+      std::cout << "wrote " << o.output << "\n";
+    }
+    if (!o.plot.empty()) {
+      plotOptimized(o, outputs.staged(o.plot), summary, graph, initial_positions, in.ground_truth);
+    }
+    outputs.commit();
+    return kExitOk;
+  });
 }
 
 int cmdOptimize(const std::vector<std::string>& args) {
@@ -445,6 +447,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
                 << (edges.size() == 1 ? "its edge is on " : "its edges are on ") << lines << " of "
                 << o.input << "\n";
     }
+    std::cerr << failedEdgeNote(summary.failed_edge, in.edge_lines, graph.numEdges(), o.input);
     if (!o.output.empty()) std::cerr << "not writing " << o.output << "\n";
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
@@ -587,6 +590,8 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     std::cerr << "graphslam " << command << ": " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    exitOutOfMemory(command);
   } catch (const std::exception& e) {
     std::cerr << "graphslam " << command << ": internal error: " << e.what() << "\n";
     return kExitFailed;

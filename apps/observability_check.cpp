@@ -84,6 +84,14 @@ std::string edgeLines(const std::vector<std::size_t>& edges,
   return out;
 }
 
+std::string failedEdgeNote(std::ptrdiff_t failed_edge, const std::vector<std::size_t>& edge_lines,
+                           std::size_t num_edges, const std::string& input) {
+  if (failed_edge < 0) return {};
+  const std::string line =
+      edgeLines({static_cast<std::size_t>(failed_edge)}, edge_lines, num_edges);
+  return line.empty() ? line : "that edge is on " + line + " of " + input + "\n";
+}
+
 bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop_them, int threads,
                         bool quiet) {
   ObservabilityReport r = check(in, types, threads);
@@ -106,8 +114,7 @@ bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop_th
   return true;
 }
 
-bool checkUndampedAtResult(LoadedInput& in, const Summary& summary,
-                           const SolverRegistry& solvers) {
+bool checkUndampedAtResult(LoadedInput& in, const Summary& summary, const SolverRegistry& solvers) {
   if (!summary.succeeded()) return true;
   for (const IterationStats& it : summary.per_iteration) {
     if (it.undamped) return true;  // H factorised undamped: it was positive definite there
@@ -117,10 +124,9 @@ bool checkUndampedAtResult(LoadedInput& in, const Summary& summary,
   MarginalCovariance marginals(options);
   const MarginalSummary check = marginals.compute(in.graph, {});
   if (check.ok()) return true;
-  std::cerr << (in.path.empty() ? std::string("graph") : in.path) << ": " << toString(summary.status)
-            << " by " << toString(summary.algorithm)
-            << ", but H is singular at the result (the damping hid it): " << check.message
-            << "\n";
+  std::cerr << (in.path.empty() ? std::string("graph") : in.path) << ": "
+            << toString(summary.status) << " by " << toString(summary.algorithm)
+            << ", but H is singular at the result (the damping hid it): " << check.message << "\n";
   for (VertexId id : check.bad_vertices) {
     const Vertex* v = in.graph.vertex(id);
     if (v == nullptr) continue;

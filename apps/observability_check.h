@@ -44,4 +44,10 @@ void printObservability(LoadedInput& in, const TypeRegistry& types);
                                     const std::vector<std::size_t>& edge_lines,
                                     std::size_t num_edges);
 
+/// "that edge is on line N of INPUT\n" for the edge a failed optimisation names
+/// (Summary::failed_edge, an index into the graph's edges; -1: none), or empty.
+[[nodiscard]] std::string failedEdgeNote(std::ptrdiff_t failed_edge,
+                                         const std::vector<std::size_t>& edge_lines,
+                                         std::size_t num_edges, const std::string& input);
+
 }  // namespace graphslam::apps

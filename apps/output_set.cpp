@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "output_set.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 #include <system_error>
 
 #include "cli_common.h"
@@ -23,6 +26,50 @@ std::string canonical(const std::string& path) {
   const fs::path p = fs::weakly_canonical(fs::path(path), ec);
   return ec ? path : p.string();
 }
+/// The digits at the start of `s` as a process id, -1 when there are none; `rest` is what
+/// follows them.
+long leadingPid(std::string_view s, std::string_view& rest) {
+  std::size_t n = 0;
+  while (n < s.size() && n < 10 && s[n] >= '0' && s[n] <= '9') ++n;
+  rest = s.substr(n);
+  return n == 0 ? -1 : std::stol(std::string(s.substr(0, n)));
+}
+
+/// Whether `entry` is a temporary file that a killed run left for the output `name`:
+/// ".graphslam-PID-NAME" (staged) or that with ".tmp.PID" appended (being written), or
+/// "NAME.tmp.PID" (written in place), each of a process that no longer runs.
+bool staleTemporary(const std::string& entry, const std::string& name) {
+  const auto dead = [](long pid) {
+    return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+  };
+  const auto tmpOfDead = [&](std::string_view s) {  // "" or ".tmp.PID" of a dead process
+    if (s.empty()) return true;
+    if (s.substr(0, 5) != ".tmp.") return false;
+    std::string_view rest;
+    return dead(leadingPid(s.substr(5), rest)) && rest.empty();
+  };
+  std::string_view s = entry;
+  const std::string_view prefix = ".graphslam-";
+  if (s.substr(0, prefix.size()) == prefix) {
+    std::string_view rest;
+    const long pid = leadingPid(s.substr(prefix.size()), rest);
+    if (rest.substr(0, 1 + name.size()) != "-" + name || !dead(pid)) return false;
+    return tmpOfDead(rest.substr(1 + name.size()));
+  }
+  return s.size() > name.size() && s.substr(0, name.size()) == name &&
+         s.substr(name.size()).substr(0, 5) == ".tmp." && tmpOfDead(s.substr(name.size()));
+}
+
+/// Removes what a run that was killed (SIGKILL, power loss) while writing `path` left
+/// beside it: its temporary files never hold a finished output.
+void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (staleTemporary(entry, name)) fs::remove(it->path(), ec);
+  }
+}
+
 }  // namespace
 
 OutputSet::OutputSet(std::vector<std::string> paths, const std::vector<std::string>& inputs) {
@@ -54,6 +101,7 @@ OutputSet::OutputSet(std::vector<std::string> paths, const std::vector<std::stri
     }
     paths_.push_back(path);
     const fs::path name = fs::path(path).filename();
+    removeStaleTemporaries(dir, name.string());
     staged_.push_back(
         (dir / (".graphslam-" + std::to_string(::getpid()) + "-" + name.string())).string());
   }
@@ -81,6 +129,21 @@ void OutputSet::commit() {
   if (!failed.empty()) {
     abort();
     throw Error("could not put the outputs in place: " + failed);
+  }
+}
+
+int OutputSet::writeAll(const std::function<int()>& write) {
+  try {
+    return write();
+  } catch (const Error& e) {
+    abort();
+    std::string message = e.what();
+    for (std::size_t k = 0; k < paths_.size(); ++k) {
+      for (std::size_t at; (at = message.find(staged_[k])) != std::string::npos;) {
+        message.replace(at, staged_[k].size(), paths_[k]);
+      }
+    }
+    throw Error(message);
   }
 }
 

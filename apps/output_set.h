@@ -3,6 +3,7 @@
 // temporary files beside them, renamed into place together at the end.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,7 +13,8 @@ class OutputSet {
  public:
   /// Checks `paths` (empty entries skipped) before any work: each one's folder exists and
   /// is writable, no path is an existing folder, none is one of `inputs`, none appears
-  /// twice. Throws UsageError naming the path and the reason.
+  /// twice. Throws UsageError naming the path and the reason. Removes the temporary files
+  /// of these outputs that a killed run (no longer running) left in their folders.
   OutputSet(std::vector<std::string> paths, const std::vector<std::string>& inputs);
   /// Removes the temporary files of an unfinished set.
   ~OutputSet();
@@ -28,6 +30,10 @@ class OutputSet {
   /// Removes every temporary file (for a failure path that ends the process without
   /// running destructors).
   void abort();
+  /// Runs `write` (which writes the staged files and commits); a graphslam::Error it throws
+  /// removes the staged files and is thrown again naming each output by its own path, not
+  /// its staging file's.
+  int writeAll(const std::function<int()>& write);
 
  private:
   std::vector<std::string> paths_;

@@ -4,9 +4,12 @@
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <istream>
 
 #include "graphslam/core/error.h"
 
@@ -14,17 +17,27 @@ namespace graphslam {
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  // The system's reason (errno) of the failed call, e.g. "File too large" under a file size
+  // limit, "No space left on device" on a full disk.
+  const auto reason = [] {
+    return std::string(errno != 0 ? std::strerror(errno) : "unknown reason");
+  };
   try {
     {
+      errno = 0;
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out)
-        throw Error("cannot write '" + path + "': cannot create temporary file '" + tmp + "'");
+      if (!out) {
+        throw Error("cannot write '" + path + "': cannot create temporary file '" + tmp +
+                    "': " + reason());
+      }
       write(out);
       out.flush();
-      if (!out) throw Error("cannot write '" + path + "': write error");
+      if (!out) throw Error("cannot write '" + path + "': " + reason());
+      out.close();
+      if (out.fail()) throw Error("cannot write '" + path + "': " + reason());
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-      throw Error("cannot write '" + path + "': rename of the temporary file failed");
+      throw Error("cannot write '" + path + "': rename of the temporary file failed: " + reason());
     }
   } catch (...) {
     std::remove(tmp.c_str());
@@ -43,6 +56,29 @@ void appendDouble(std::string& out, double value, char separator) {
   buf[0] = separator;
   auto res = std::to_chars(buf.data() + 1, buf.data() + buf.size(), value);
   out.append(buf.data(), res.ptr);
+}
+
+LineRead readBoundedLine(std::istream& in, std::string& line, std::size_t max_bytes) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  if (!in.good() || !buf) return LineRead::kEnd;
+  bool any = false;
+  while (true) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return any ? LineRead::kLine : LineRead::kEnd;
+    }
+    any = true;
+    if (c == '\n') return LineRead::kLine;
+    if (line.size() >= max_bytes) return LineRead::kTooLong;
+    line.push_back(static_cast<char>(c));
+  }
+}
+
+std::string cannotOpenMessage(const std::string& path, int error_number) {
+  return path +
+         ": cannot open: " + (error_number != 0 ? std::strerror(error_number) : "unknown reason");
 }
 
 }  // namespace graphslam

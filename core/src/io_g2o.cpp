@@ -50,7 +50,7 @@ class Reader {
     int line_base = 0;
     while (true) {
       while (!eof && window.size() < max_window) {
-        auto chunk = readChunk(in, chunk_bytes, carry, eof);
+        auto chunk = readChunk(in, chunk_bytes, options_.max_line_bytes, carry, eof);
         if (!chunk) break;
         if (threads > 1 && (window.size() > 0 || !eof)) workers.start(threads - 1);
         workers.push(*chunk);
@@ -90,8 +90,11 @@ class Reader {
   /// `chunk_bytes` long (but for the last) and extends to the end of its last line; the
   /// part of a line read past it is carried into the next chunk. At the end of the input
   /// the chunk holds everything that is left, a last line without a line end included.
+  /// A line that grows past `max_line_bytes` ends the reading there (as if at the end of
+  /// the input): the parser reports it, and memory stays bounded by the two sizes.
   static std::unique_ptr<Chunk> readChunk(std::istream& in, std::size_t chunk_bytes,
-                                          std::string& carry, bool& eof) {
+                                          std::size_t max_line_bytes, std::string& carry,
+                                          bool& eof) {
     auto chunk = std::make_unique<Chunk>();
     std::string& text = chunk->text;
     text.swap(carry);
@@ -111,6 +114,10 @@ class Reader {
         // Whole lines only: the rest begins the next chunk.
         carry.assign(text, old + last + 1, std::string::npos);
         text.resize(old + last + 1);
+        break;
+      }
+      if (text.size() > max_line_bytes) {  // the carry and this read: one line, too long
+        eof = true;
         break;
       }
     }
@@ -233,6 +240,11 @@ class Reader {
   /// Adds a parsed line to the graph (the checks that need the lines before it); returns
   /// false when loading must stop.
   bool commit(ParsedLine& p, int line_no) {
+    if (p.bad && p.fatal) {
+      result_.diagnostics.push_back({name_, line_no, std::move(p.error)});
+      result_.failed = true;
+      return false;
+    }
     if (p.bad) return report(line_no, std::move(p.error));
     // With create_missing_vertices every vertex an edge refers to will exist.
     if (p.indefinite && options_.strict &&

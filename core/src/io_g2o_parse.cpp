@@ -43,6 +43,14 @@ void LineParser::parse(Chunk& chunk) {
     std::string_view view = text.substr(pos, end - pos);
     pos = end + 1;
     ++line_no;
+    if (view.size() > options_.max_line_bytes) {
+      ParsedLine& out = chunk.lines.emplace_back();
+      out.line = line_no;
+      out.bad = out.fatal = true;
+      out.error = "the line is longer than " + std::to_string(options_.max_line_bytes) +
+                  " bytes (LoadOptions::max_line_bytes): not a .g2o line";
+      break;
+    }
     if (auto hash = view.find('#'); hash != std::string_view::npos) view = view.substr(0, hash);
     tokenize(view, tokens_);
     if (tokens_.empty()) continue;

@@ -29,6 +29,7 @@ struct ParsedLine {
   const std::string* tag = nullptr;      ///< a vertex or edge line's tag (the registry's string)
   std::string error;                     ///< a bad line: why
   bool bad = false;
+  bool fatal = false;       ///< a bad line that ends the reading, lenient or not (too long)
   bool indefinite = false;  ///< an edge whose information is not positive definite (refused)
   bool repaired = false;    ///< ... that was repaired
 };

@@ -36,7 +36,8 @@ void appendParameters(std::string& line, const T& item, std::vector<double>& dat
 /// Writes the lines of items [0, count) in order: batches of items are formatted by two
 /// threads (each into its own buffer), then written. Formatting the numbers is most of
 /// the work of writing a large graph; memory stays one batch.
-/// `format(i, text)` appends item i's lines to text; an exception it throws reaches the
+/// `format(i, text, scratch)` appends item i's lines to text (`scratch`: a vector of the
+/// formatting thread's own, for the item's numbers); an exception it throws reaches the
 /// caller.
 template <typename Format>
 void writeLines(std::ostream& out, std::size_t count, const Format& format) {
@@ -45,7 +46,8 @@ void writeLines(std::ostream& out, std::size_t count, const Format& format) {
   std::string first, second;
   auto formatRange = [&format](std::size_t begin, std::size_t end, std::string& text) {
     text.clear();
-    for (std::size_t i = begin; i < end; ++i) format(i, text);
+    std::vector<double> scratch;
+    for (std::size_t i = begin; i < end; ++i) format(i, text, scratch);
   };
   for (std::size_t begin = 0; begin < count; begin += 2 * kBatch) {
     const std::size_t mid = std::min(count, begin + kBatch);
@@ -69,8 +71,7 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
   std::vector<const Vertex*> vertices;
   vertices.reserve(graph.numVertices());
   for (const auto& [id, v] : graph.vertices()) vertices.push_back(v.get());
-  // Per-thread scratch: the threads of writeLines format disjoint items.
-  thread_local std::vector<double> data;
+  std::vector<double> data;
   for (const auto& [id, p] : graph.parameters()) {
     const std::string* tag = types.tagOf(*p);
     if (!tag)
@@ -83,24 +84,26 @@ void writeG2o(std::ostream& out, const Graph& graph, const TypeRegistry& types) 
     line += '\n';
     out.write(line.data(), static_cast<std::streamsize>(line.size()));
   }
-  writeLines(out, vertices.size(), [&](std::size_t i, std::string& line) {
-    const Vertex& v = *vertices[i];
-    const std::string* tag = types.tagOf(v);
-    if (!tag)
-      throw Error("cannot write vertex " + std::to_string(v.id()) + ": its type is not registered");
-    data.resize(static_cast<std::size_t>(v.estimateDataDimension()));
-    v.getEstimateData(data.data());
-    line += *tag;
-    appendId(line, v.id());
-    for (double x : data) appendDouble(line, x);
-    appendParameters(line, v, data);
-    line += '\n';
-  });
+  writeLines(out, vertices.size(),
+             [&](std::size_t i, std::string& line, std::vector<double>& data) {
+               const Vertex& v = *vertices[i];
+               const std::string* tag = types.tagOf(v);
+               if (!tag)
+                 throw Error("cannot write vertex " + std::to_string(v.id()) +
+                             ": its type is not registered");
+               data.resize(static_cast<std::size_t>(v.estimateDataDimension()));
+               v.getEstimateData(data.data());
+               line += *tag;
+               appendId(line, v.id());
+               for (double x : data) appendDouble(line, x);
+               appendParameters(line, v, data);
+               line += '\n';
+             });
   for (const Vertex* v : vertices) {
     if (v->fixed()) out << "FIX " << v->id() << '\n';
   }
   const auto& edges = graph.edges();
-  writeLines(out, edges.size(), [&](std::size_t i, std::string& line) {
+  writeLines(out, edges.size(), [&](std::size_t i, std::string& line, std::vector<double>& data) {
     const Edge& e = *edges[i];
     const std::string* tag = types.tagOf(e);
     if (!tag)

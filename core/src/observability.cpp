@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
@@ -206,6 +207,25 @@ bool straightForEveryEdge(Vertex& v, const Eigen::VectorXd& n, const Observabili
   return straight;
 }
 
+/// The largest ratio of largest to smallest eigenvalue among the information matrices of the
+/// active edges of `v` (infinite for a singular one).
+double informationSpread(const Vertex& v) {
+  double spread = 1.0;
+  for (const Edge* e : v.edges()) {
+    if (!e->active()) continue;
+    const int d = e->dimension();
+    const Eigen::Map<const Eigen::MatrixXd> info(e->informationData(), d, d);
+    if (!info.allFinite()) continue;
+    const Eigen::VectorXd lambda =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(info, Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .cwiseAbs();
+    const double ratio = lambda.maxCoeff() / lambda.minCoeff();
+    spread = std::max(spread, std::isnan(ratio) ? 1.0 : ratio);
+  }
+  return spread;
+}
+
 /// Why the active edges of `u` (rank `rank` of its dimension) do not determine it.
 std::string reasonFor(Vertex& v, UndeterminedVertex& u, const ObservabilityOptions& o,
                       std::vector<double>& scratch) {
@@ -219,12 +239,19 @@ std::string reasonFor(Vertex& v, UndeterminedVertex& u, const ObservabilityOptio
       from_vertices.empty() ? from_vertices : " (" + from_vertices.substr(1) + ")";
   if (u.rank < 0) {
     return "its edges' Jacobians are not finite at the current estimate (e.g. a point at the "
-           "position it is observed from)";
+           "position it is observed from, or a measurement too large for double arithmetic)";
   }
   const std::string generic =
       (edges == 1 ? std::string("its one edge") + from + " determines only "
                   : "its " + std::to_string(edges) + " edges" + from + " determine only ") +
       std::to_string(u.rank) + " of its " + std::to_string(d) + " directions";
+  const double spread = informationSpread(v);
+  if (spread * o.rank_tolerance >= 1.0) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", spread);
+    return generic + ": the information matrix of one of its edges has eigenvalues " + buf +
+           " times apart, more than double arithmetic resolves (an entry mistyped?)";
+  }
   if (u.rank != d - 1) return generic;
   // Every edge measuring exactly one direction of the vertex: ranges and bearings.
   for (const Edge* e : v.edges()) {

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "graphslam/core/error.h"
+#include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/linear_system.h"
 #include "graphslam/core/logging.h"
 #include "graphslam/core/observability.h"
@@ -182,6 +183,44 @@ std::string failureMessage(const Optimizer::Impl& im, const Graph& graph,
   return msg;
 }
 
+/// Why the initial objective is not finite: the first active edge whose term is not (into
+/// summary.failed_edge, as an index into graph.edges()), its vertices, and whether its error
+/// is not finite or a finite error overflows e^T Omega e.
+std::string nonFiniteChi2Message(Graph& graph, Summary& summary) {
+  const auto& edges = graph.edges();
+  std::size_t count = 0;
+  std::string first;
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    Edge& e = *edges[k];
+    if (!e.active()) continue;
+    e.computeError();
+    if (std::isfinite(e.robustChi2())) continue;
+    if (++count > 1) continue;
+    summary.failed_edge = static_cast<std::ptrdiff_t>(k);
+    std::string ids;
+    for (std::size_t s = 0; s < e.numVertices(); ++s) {
+      ids += (s == 0 ? "" : ", ") + std::to_string(e.vertexId(s));
+    }
+    first = (e.numVertices() == 1 ? "the edge of vertex " : "the edge joining vertices ") + ids;
+    const int d = e.dimension();
+    const Eigen::Map<const Eigen::VectorXd> err(e.errorData(), d);
+    const Eigen::Map<const Eigen::MatrixXd> info(e.informationData(), d, d);
+    if (!err.allFinite()) {
+      first +=
+          ": its error is not finite at the initial estimate (a measurement or an estimate "
+          "too large for double arithmetic?)";
+    } else if (std::isfinite(e.chi2())) {
+      first += ": its robust kernel's value is not finite";
+    } else {
+      first += ": its error is finite (largest entry " + formatDouble(err.cwiseAbs().maxCoeff()) +
+               ") but e^T Omega e overflows the range of a double (information entries up to " +
+               formatDouble(info.cwiseAbs().maxCoeff()) + ")";
+    }
+  }
+  std::string msg = "initial chi2 is not finite: " + first;
+  if (count > 1) msg += " (and " + std::to_string(count - 1) + " more edges)";
+  return msg;
+}
 }  // namespace
 
 // The structure, the gauge of every unanchored component, the initial objective and the
@@ -237,7 +276,7 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
   }
   if (!std::isfinite(summary.initial_cost)) {
     summary.status = TerminationStatus::kNumericalFailure;
-    summary.message = "initial chi2 is not finite";
+    summary.message = nonFiniteChi2Message(graph_, summary);
     return false;
   }
   if (!im.analyzed) {

@@ -45,6 +45,8 @@ std::string quote(std::string_view token) {
   out += token.size() > kQuotedBytes ? "'..." : "'";
   if (token.substr(0, 3) == "\xEF\xBB\xBF") {
     out += " (a UTF-8 byte-order mark: save the file without one)";
+  } else if (token.substr(0, 2) == "\xFF\xFE" || token.substr(0, 2) == "\xFE\xFF") {
+    out += " (a UTF-16 byte-order mark: save the file as UTF-8 text)";
   }
   return out;
 }

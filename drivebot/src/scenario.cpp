@@ -1,47 +1,60 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/drivebot/scenario.h"
 
+#include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string_view>
+#include <system_error>
 
 #include "graphslam/core/error.h"
+#include "graphslam/core/internal/file_util.h"
+#include "graphslam/core/internal/text_tokens.h"
 
 namespace graphslam::drivebot {
 
-
 namespace {
+
+/// One number of a scenario file (locale independent); `where` is "FILE:LINE: ".
+double parseValue(const std::string& token, const std::string& where) {
+  std::string_view digits = token;
+  if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+  if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
+    throw InputError(where + detail::quote(token) + " is out of the range of a double");
+  }
+  if (ec != std::errc() || ptr != digits.data() + digits.size()) {
+    throw InputError(where + detail::quote(token) + " is not a number");
+  }
+  if (!std::isfinite(v)) throw InputError(where + detail::quote(token) + " is not finite");
+  return v;
+}
 
 /// Rows of numbers of a whitespace-separated text file, each with min_cols..max_cols
 /// values. Blank lines are skipped.
 std::vector<std::vector<double>> readRows(const std::string& path, int min_cols, int max_cols) {
+  errno = 0;
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
+  if (!in) throw InputError(cannotOpenMessage(path, errno));
   std::vector<std::vector<double>> rows;
   std::string line;
   int line_no = 0;
-  while (std::getline(in, line)) {
+  while (true) {
+    const LineRead read = readBoundedLine(in, line, kMaxTextLineBytes);
+    if (read == LineRead::kEnd) break;
     ++line_no;
+    const std::string where = path + ":" + std::to_string(line_no) + ": ";
+    if (read == LineRead::kTooLong) {
+      throw InputError(where + "the line is longer than " + std::to_string(kMaxTextLineBytes) +
+                       " bytes: not a line of numbers");
+    }
     std::istringstream fields(line);
     std::vector<double> row;
     std::string token;
-    while (fields >> token) {
-      std::size_t used = 0;
-      double v = 0.0;
-      try {
-        v = std::stod(token, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != token.size()) {
-        throw InputError(path + ":" + std::to_string(line_no) + ": '" + token +
-                         "' is not a number");
-      }
-      if (!std::isfinite(v)) {
-        throw InputError(path + ":" + std::to_string(line_no) + ": value is not finite");
-      }
-      row.push_back(v);
-    }
+    while (fields >> token) row.push_back(parseValue(token, where));
     if (row.empty()) continue;
     const int n = static_cast<int>(row.size());
     if (n < min_cols || n > max_cols) {

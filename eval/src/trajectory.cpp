@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/eval/trajectory.h"
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -9,6 +10,9 @@
 #include <sstream>
 #include <string_view>
 #include <system_error>
+
+#include "graphslam/core/internal/file_util.h"
+#include "graphslam/core/internal/text_tokens.h"
 
 namespace graphslam::eval {
 namespace {
@@ -42,8 +46,9 @@ double parseNumber(std::string_view token, const std::string& source, std::size_
   if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);
   double value = 0.0;
   const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  const std::string where = "token " + std::to_string(column + 1) + " '" + std::string(token) + "'";
-  if (ec == std::errc::result_out_of_range) fail(source, line_no, where + " is out of range");
+  const std::string where = "token " + std::to_string(column + 1) + " " + detail::quote(token);
+  if (ec == std::errc::result_out_of_range)
+    fail(source, line_no, where + " is out of the range of a double");
   if (ec != std::errc() || ptr != digits.data() + digits.size()) {
     fail(source, line_no, where + " is not a number");
   }
@@ -56,8 +61,15 @@ template <typename OnRow>
 void forEachNumericLine(std::istream& in, const std::string& source, OnRow&& on_row) {
   std::string line;
   std::size_t line_no = 0;
-  while (std::getline(in, line)) {
+  while (true) {
+    const LineRead read = readBoundedLine(in, line, kMaxTextLineBytes);
+    if (read == LineRead::kEnd) break;
     ++line_no;
+    if (read == LineRead::kTooLong) {
+      fail(source, line_no,
+           "the line is longer than " + std::to_string(kMaxTextLineBytes) +
+               " bytes: not a line of numbers");
+    }
     const auto tokens = tokenize(line);
     if (tokens.empty()) continue;
     std::vector<double> values(tokens.size());
@@ -70,8 +82,9 @@ void forEachNumericLine(std::istream& in, const std::string& source, OnRow&& on_
 }
 
 std::ifstream openForReading(const std::string& path) {
+  errno = 0;
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file for reading");
+  if (!in) throw InputError(cannotOpenMessage(path, errno));
   return in;
 }
 

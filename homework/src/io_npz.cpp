@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <sstream>
 
 #include "graphslam/core/error.h"
+#include "graphslam/core/internal/file_util.h"
 
 namespace graphslam::homework {
 
@@ -333,8 +335,9 @@ NpyArray parseNpy(const void* bytes, std::size_t size, const std::string& what) 
 }
 
 NpyArray loadNpy(const std::string& path) {
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
+  if (!in) throw InputError(cannotOpenMessage(path, errno));
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
                                 std::istreambuf_iterator<char>());
   if (in.bad()) throw InputError(path + ": read error");
@@ -366,7 +369,8 @@ std::string zipErrorText(int code) {
 
 NpzArchive::NpzArchive(const std::string& path) : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  if (!std::ifstream(path).good()) throw InputError(path + ": cannot open");
+  errno = 0;
+  if (!std::ifstream(path).good()) throw InputError(cannotOpenMessage(path, errno));
   int code = 0;
   impl_->zip = zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code);
   if (!impl_->zip) {

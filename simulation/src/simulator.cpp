@@ -21,7 +21,10 @@ namespace {
 constexpr double kHalfPi = 1.57079632679489661923;
 
 std::int64_t cellKey(int x, int y) {
-  return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+  // Shifted as unsigned: a left shift of a negative value is undefined (UBSan reports it);
+  // the bits are the same.
+  return static_cast<std::int64_t>((static_cast<std::uint64_t>(x) << 32) ^
+                                   static_cast<std::uint32_t>(y));
 }
 
 /// The simulation's state, its phases in the order they draw from the random generator

@@ -14,6 +14,13 @@
 
 namespace graphslam::solvers {
 
+std::string cholmodStatusText(int status) {
+  const std::string code = "status " + std::to_string(status);
+  if (status == CHOLMOD_OUT_OF_MEMORY) return "out of memory (" + code + ")";
+  if (status == CHOLMOD_TOO_LARGE) return "problem too large (" + code + ")";
+  return code;
+}
+
 namespace {
 
 /// CHOLMOD Cholesky (supernodal or simplicial LL^T) with an ordering computed on the
@@ -93,7 +100,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     if (!factor_ || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "cholmod_analyze failed (status " + std::to_string(common_.status) + ")");
+          "cholmod_analyze failed: " + cholmodStatusText(common_.status));
     }
     // The analysis leaves a workspace of 6n integers and more; the
     // factorisation allocates the smaller one it needs itself, so this one would only add
@@ -123,7 +130,7 @@ class CholmodSolver final : public detail::OrderedSolver {
     if (!ok || common_.status < CHOLMOD_OK) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "cholmod_factorize failed (status " + std::to_string(common_.status) + ")");
+          "cholmod_factorize failed: " + cholmodStatusText(common_.status));
     }
     return LinearSolverResult::success();
   }

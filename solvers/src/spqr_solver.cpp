@@ -86,7 +86,7 @@ class SpqrSolver final : public LinearSolver {
     if (!v.qr) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "SuiteSparseQR_symbolic failed (status " + std::to_string(cc_.status) + ")");
+          "SuiteSparseQR_symbolic failed: " + cholmodStatusText(cc_.status));
     }
     return LinearSolverResult::success();
   }
@@ -105,13 +105,13 @@ class SpqrSolver final : public LinearSolver {
       if (!v.qr) {
         return LinearSolverResult::failure(
             LinearSolverStatus::kFailure,
-            "SuiteSparseQR_symbolic failed (status " + std::to_string(cc_.status) + ")");
+            "SuiteSparseQR_symbolic failed: " + cholmodStatusText(cc_.status));
       }
     }
     if (!SuiteSparseQR_numeric<double>(SPQR_DEFAULT_TOL, &v.a, v.qr, &cc_)) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "SuiteSparseQR_numeric failed (status " + std::to_string(cc_.status) + ")");
+          "SuiteSparseQR_numeric failed: " + cholmodStatusText(cc_.status));
     }
     r_nnz_ = static_cast<std::size_t>(cc_.SPQR_istat[0]);
     const Long cols = structure_.cols;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "common.h"
 #include "graphslam/core/linear_solver.h"
@@ -28,5 +29,8 @@ std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering,
 std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
                                                 std::shared_ptr<OrderingCache> cache);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);
+/// A CHOLMOD status (cholmod_common::status, also SuiteSparseQR's) in words:
+/// "out of memory (status -2)", "problem too large (status -3)", else "status N".
+std::string cholmodStatusText(int status);
 
 }  // namespace graphslam::solvers

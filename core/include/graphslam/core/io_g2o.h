@@ -33,6 +33,11 @@ struct LoadOptions {
   /// (4 MiB) keeps two threads busy on the benchmark files with a small read-ahead window
   /// (2 chunks per thread); tests set it small to put line ends on chunk boundaries.
   std::size_t chunk_bytes = std::size_t{1} << 22;
+  /// Longest line accepted, in bytes (without its line end). A longer line ends the load
+  /// with an error naming it, in lenient mode too, after at most this plus chunk_bytes of
+  /// it were read (a multi-gigabyte line is never held whole). The default (1 MiB) is
+  /// thousands of times the longest line of the shared datasets (313 bytes, a 3D edge).
+  std::size_t max_line_bytes = std::size_t{1} << 20;
   /// Edges whose information matrix is not positive definite: refused (default; strict
   /// mode counts every such line to the end of the file, lists the first kListedLines and
   /// a summary, and fails; lenient mode skips each like any bad line) or repaired

@@ -123,6 +123,10 @@ struct Summary {
   /// message names both (the vertex's edges by the vertices they join it to).
   VertexId failed_vertex = -1;
   std::vector<std::size_t> failed_vertex_edges;
+  /// When the initial chi2 is not finite: the first active edge whose term is not, as an
+  /// index into graph.edges() (-1 otherwise); the message names its vertices and says
+  /// whether its error is not finite or e^T Omega e overflows.
+  std::ptrdiff_t failed_edge = -1;
 
   [[nodiscard]] bool succeeded() const {
     return status == TerminationStatus::kConverged || status == TerminationStatus::kMaxIterations;
