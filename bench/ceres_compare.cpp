@@ -198,9 +198,10 @@ CeresRun solveWithCeres(Graph& graph, const TypeRegistry& types, ceres::Solver::
       }
     } else {
       const std::string* tag = types.tagOf(*edge);
-      throw bench::BadInput("ceres_compare handles EDGE_SE2, EDGE_SE2_XY and EDGE_SE3:QUAT only, not " +
-                            (tag ? *tag : std::string("an unregistered edge type")) +
-                            " (edge of vertex " + std::to_string(edge->vertexId(0)) + ")");
+      throw bench::BadInput(
+          "ceres_compare handles EDGE_SE2, EDGE_SE2_XY and EDGE_SE3:QUAT only, not " +
+          (tag ? *tag : std::string("an unregistered edge type")) + " (edge of vertex " +
+          std::to_string(edge->vertexId(0)) + ")");
     }
   }
   for (auto& [id, p] : params) {

@@ -345,7 +345,7 @@ std::vector<std::vector<VertexId>> HessianStructure::unanchoredGroups(std::size_
     }
     const auto g = static_cast<std::size_t>(group_of_root[root]);
     if (groups[g].size() < max_ids) groups[g].push_back(active[i]->id());
-    if (active[i]->dimension() > anchor[g]->dimension()) anchor[g] = active[i];
+    if (betterGaugeAnchor(*active[i], anchor[g])) anchor[g] = active[i];
   }
   for (std::size_t g = 0; g < groups.size(); ++g) {  // the anchor first
     auto& ids = groups[g];

@@ -330,7 +330,7 @@ Vertex* fixGaugeIfFree(Graph& graph) {
                      [](const Edge* e) { return e->active(); })) {
       continue;
     }
-    if (anchor == nullptr || v->dimension() > anchor->dimension()) anchor = v.get();
+    if (betterGaugeAnchor(*v, anchor)) anchor = v.get();
   }
   if (anchor != nullptr) anchor->setFixed(true);
   return anchor;

@@ -13,6 +13,7 @@
 
 #include "graphslam/core/graph_checks.h"
 #include "graphslam/core/internal/fixed_size.h"
+#include "graphslam/core/linear_system.h"
 #include "id_index.h"
 #include "thread_pool.h"
 
@@ -377,7 +378,7 @@ ObservabilityReport checkObservability(Graph& graph, const ObservabilityOptions&
     const Vertex* anchor = nullptr;
     for (VertexId id : group) {
       const Vertex* v = graph.vertex(id);
-      if (anchor == nullptr || v->dimension() > anchor->dimension()) anchor = v;
+      if (betterGaugeAnchor(*v, anchor)) anchor = v;
     }
     report.anchors.push_back(anchor != nullptr ? anchor->id() : -1);
   }

@@ -248,10 +248,11 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
   }
   summary.gauge_fixed = gauge.fixedIds();
   for (VertexId id : summary.gauge_fixed) {
-    log(LogLevel::kInfo, "fixing vertex " + std::to_string(id) +
-                             " (of a component without a fixed vertex or prior: its lowest id among the "
-                             "vertices of the largest dimension) "
-                             "to remove its gauge freedom");
+    log(LogLevel::kInfo,
+        "fixing vertex " + std::to_string(id) +
+            " (of a component without a fixed vertex or prior: its lowest id among the "
+            "vertices of the largest dimension) "
+            "to remove its gauge freedom");
   }
   im.jacobian_form = im.solver->form() == SystemForm::kJacobian;
   if (im.jacobian_form && options_.algorithm == Algorithm::kDogleg) {

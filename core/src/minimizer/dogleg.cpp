@@ -20,9 +20,8 @@ LinearSolverResult Dogleg::gaussNewtonStep(StepContext& ctx, double& lambda) {
     const bool finite =
         std::all_of(im.dx.begin(), im.dx.end(), [](double x) { return std::isfinite(x); });
     if ((r.ok() && finite) || attempt > ctx.options.max_rejections) return r;
-    lambda = lambda == 0.0
-                 ? ctx.options.dogleg.initial_regularization * std::max(max_diag, 1e-12)
-                 : lambda * 10.0;
+    lambda = lambda == 0.0 ? ctx.options.dogleg.initial_regularization * std::max(max_diag, 1e-12)
+                           : lambda * 10.0;
   }
 }
 

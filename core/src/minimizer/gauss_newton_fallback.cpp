@@ -52,8 +52,7 @@ StepResult GaussNewtonFallback::undampedStep(StepContext& ctx) {
   result.cost = cost;
   // At the optimum chi2 jitters by rounding; above the best by no more than the function
   // tolerance counts as being there.
-  result.may_stop =
-      !(cost > best_cost_ + ctx.options.function_tolerance * std::abs(best_cost_));
+  result.may_stop = !(cost > best_cost_ + ctx.options.function_tolerance * std::abs(best_cost_));
   return result;
 }
 

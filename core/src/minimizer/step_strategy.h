@@ -27,9 +27,9 @@ struct StepContext {
 /// How an iteration ended.
 struct StepResult {
   enum class Kind {
-    kAccepted,   ///< a step was taken
-    kRestarted,  ///< the strategy moved the estimate (back to its best) and changed method
-    kConverged,  ///< no step lowers the objective meaningfully: at a minimum
+    kAccepted,    ///< a step was taken
+    kRestarted,   ///< the strategy moved the estimate (back to its best) and changed method
+    kConverged,   ///< no step lowers the objective meaningfully: at a minimum
     kNoProgress,  ///< no acceptable step within the retry budget
     kFailed,      ///< numerical failure (solver: the solver's result; otherwise message)
   };

@@ -110,8 +110,16 @@ class LinearSystem {
 };
 
 /// If no vertex is fixed and no edge is unary (nothing anchors the graph: relative
-/// measurements leave a gauge freedom), fixes the lowest-id vertex that has edges and
-/// returns it; otherwise returns nullptr. The caller restores the flag when it wants.
+/// measurements leave a gauge freedom), fixes the vertex with edges that betterGaugeAnchor picks
+/// and returns it; otherwise returns nullptr. The caller restores the flag when it wants.
 Vertex* fixGaugeIfFree(Graph& graph);
+
+/// The gauge rule shared by fixGaugeIfFree, the optimizer's per-component anchors and the
+/// observability report: visiting vertices in id order, `v` replaces `current` as the anchor
+/// when there is none yet or `v` has a larger dimension (the lowest id of the largest
+/// dimension: a pose rather than a landmark, as g2o's findGauge).
+[[nodiscard]] inline bool betterGaugeAnchor(const Vertex& v, const Vertex* current) {
+  return current == nullptr || v.dimension() > current->dimension();
+}
 
 }  // namespace graphslam

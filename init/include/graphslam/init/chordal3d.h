@@ -20,8 +20,9 @@ namespace graphslam::init {
 /// pose where it is (so the result stays in the caller's frame). Replaces the estimates of
 /// every other VertexSE3 reached by an active EDGE_SE3:QUAT; then places every non-fixed
 /// VERTEX_TRACKXYZ from its first EDGE_SE3_TRACKXYZ observation (InitializationReport::
-/// landmarks); other vertices and edge types are left alone. Works on graphs whose estimates are all identity (edges-only files).
-/// Both systems are solved with Eigen's simplicial LDL^T (AMD ordering).
+/// landmarks); other vertices and edge types are left alone. Works on graphs whose estimates are
+/// all identity (edges-only files). Both systems are solved with Eigen's simplicial LDL^T (AMD
+/// ordering).
 InitializationReport initializeChordal3d(Graph& graph);
 
 /// The same, solving both systems with `solver` (from a SolverRegistry; "auto" picks a
