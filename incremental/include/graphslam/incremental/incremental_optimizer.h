@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "graphslam/core/graph.h"
+
+namespace graphslam::incremental {
+
+/// Tuning of IncrementalOptimizer. Measurements behind the defaults: docs/BENCHMARKS.md,
+/// section "Incremental optimisation".
+struct Options {
+  /// A vertex is relinearised (its linearisation point moved to its current estimate and
+  /// its edges linearised again) when an entry of its step from the linearisation point
+  /// exceeds this (in the tangent units of its type: metres and radians for poses).
+  /// iSAM2's default is 0.1; a smaller value ends closer to the optimum of the nonlinear
+  /// problem at every update, for more relinearised edges.
+  double relinearize_threshold = 1e-3;
+  /// Relinearise-and-solve passes per update(): after a pass, vertices whose step exceeds
+  /// relinearize_threshold are relinearised and the system solved again, up to this many
+  /// times (the update's stats say when the limit was reached).
+  int max_passes = 10;
+  /// The ordering is recomputed (block AMD, the newest vertices constrained last) and the
+  /// factor rebuilt when the columns re-eliminated since the last ordering exceed this many
+  /// times the columns of a full factorisation: new vertices are appended at the end of the
+  /// ordering in between, which is cheap while they stay few.
+  double reorder_work_ratio = 1.0;
+  /// Vertices placed last by a reordering: the newest ones (by insertion), so that the next
+  /// odometry and loop-closure edges touch columns near the root of the elimination tree.
+  int reorder_recent_last = 20;
+  /// Back-substitution recomputes a vertex's step only when it is re-eliminated or a step it
+  /// depends on changed by more than this (iSAM2's "wildfire" threshold); 0 recomputes
+  /// every step after every update.
+  double backsubstitution_threshold = 0.0;
+};
+
+/// What one update() did.
+struct UpdateStats {
+  int new_vertices = 0;
+  int new_edges = 0;
+  int removed_edges = 0;
+  int passes = 0;                 ///< relinearise-and-solve passes
+  bool pass_limit_reached = false;
+  int relinearized_vertices = 0;  ///< over all passes
+  int relinearized_edges = 0;
+  int eliminated_columns = 0;     ///< vertex columns of the factor re-eliminated
+  bool reordered = false;         ///< the ordering was recomputed and the factor rebuilt
+  bool rebuilt = false;           ///< the graph changed outside the optimizer: full rebuild
+};
+
+/// Error of update(): a factor that is not positive definite (a vertex the edges do not
+/// determine), with the vertex whose column failed.
+struct UpdateFailure {
+  VertexId vertex = -1;
+  std::string message;
+};
+
+/// An optimizer for a graph that grows: vertices and edges are added (and edges removed)
+/// through it, and update() after each batch of changes brings the estimates to the optimum
+/// of the graph as it is, doing work that follows what changed (iSAM2's idea in matrix form):
+///  - the ordering of the vertices is kept and new vertices are appended to it; it is
+///    recomputed only when the appended part has made re-elimination too costly;
+///  - the Cholesky factor of H = sum J^T Omega J is kept; only the columns on the paths of the
+///    elimination tree from the changed columns to the root are eliminated again;
+///  - each vertex has a linearisation point; an edge is linearised again only when it is new
+///    or one of its vertices moved further than Options::relinearize_threshold from it.
+/// Any registered vertex and edge type works, 2D or 3D, with robust kernels (reweighted at
+/// the linearisation point). Fixed vertices are constants. When nothing anchors the graph
+/// (no fixed vertex, no unary edge) at the first update(), the vertex that fixGaugeIfFree
+/// picks is fixed. Changes made to the graph directly (not through this class) are found
+/// by the graph's structure version and cost one full rebuild at the next update().
+class IncrementalOptimizer {
+ public:
+  /// Optimises `graph` (which must outlive this object); what it holds already is new at
+  /// the first update().
+  explicit IncrementalOptimizer(Graph& graph, Options options = {});
+  ~IncrementalOptimizer();
+  IncrementalOptimizer(const IncrementalOptimizer&) = delete;
+  IncrementalOptimizer& operator=(const IncrementalOptimizer&) = delete;
+
+  [[nodiscard]] Graph& graph() { return graph_; }
+  [[nodiscard]] const Options& options() const { return options_; }
+
+  /// Adds to the graph (Graph::addVertex / addEdge: the same checks and exceptions) and
+  /// records the change for the next update().
+  Vertex& addVertex(std::unique_ptr<Vertex> vertex);
+  Edge& addEdge(std::unique_ptr<Edge> edge);
+  /// Removes an edge (it is destroyed). Returns false when it is not in the graph.
+  /// Removal changes the pattern of the factor: the next update() reorders and rebuilds it.
+  bool removeEdge(const Edge* edge);
+
+  /// Brings the estimates of the graph's vertices to the optimum of the current graph (to
+  /// the relinearisation threshold). Returns false, with failure() set and the estimates
+  /// as before the call, when the factor is not positive definite.
+  bool update();
+  [[nodiscard]] const UpdateStats& lastStats() const;
+  [[nodiscard]] const UpdateFailure& failure() const;
+
+  /// Objective (sum of the edges' robust chi2) at the current estimates.
+  [[nodiscard]] double chi2();
+
+  /// Marginal covariance of a free vertex at the last update()'s linearisation (the block of
+  /// H^-1): cheap for recent vertices, which sit near the root of the elimination tree.
+  /// Throws graphslam::Error for a fixed or unknown vertex, or before the first update().
+  [[nodiscard]] Eigen::MatrixXd marginalCovariance(VertexId id) const;
+
+  /// Vertex columns of the current factor and its non-zero blocks below the diagonal.
+  [[nodiscard]] std::size_t factorColumns() const;
+  [[nodiscard]] std::size_t factorBlocks() const;
+
+ private:
+  struct Impl;
+  Graph& graph_;
+  Options options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace graphslam::incremental
