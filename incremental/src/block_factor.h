@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// A block Cholesky factor H = L L^T kept across changes of H (iSAM2's Bayes tree in matrix
+// form). Nodes are vertex blocks with stable ids; each has an elimination position. When H
+// changes in some nodes' columns, the affected part of the factor -- those nodes and their
+// ancestors in the elimination tree, a set closed towards the root -- is moved to the end of
+// the elimination order, ordered again (CAMD, the caller's newest nodes last) and eliminated
+// again (left-looking, with the factor's row structure kept per node). The rest of the
+// factor does not depend on the affected part and stays as it is.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace graphslam::incremental {
+
+/// Receives the blocks of one column p of H (rows q at or after p) and the right-hand side.
+class ColumnBuilder {
+ public:
+  /// The block H(q, p), d_q x d_p, column-major, to add into (zero at first).
+  Eigen::Map<Eigen::MatrixXd> block(int q);
+  /// The right-hand side of p, d_p entries, to add into (zero at first).
+  Eigen::Map<Eigen::VectorXd> rhs();
+
+ private:
+  friend class BlockFactor;
+  void begin(int p, const std::vector<int>& dims);
+
+  int p_ = -1;
+  const std::vector<int>* dims_ = nullptr;
+  std::vector<int> slot_of_;  // node -> index into rows_, -1 when absent
+  std::vector<int> rows_;     // nodes added, in order of appearance (p first)
+  std::vector<int> offsets_;  // start of each row's block in values_
+  std::vector<double> values_;
+  std::vector<double> rhs_;
+};
+
+class BlockFactor {
+ public:
+  /// Assembles column `node` of H (rows at or after it in position()) and the right-hand
+  /// side -g of the node.
+  using Assemble = std::function<void(int node, ColumnBuilder& builder)>;
+  /// Appends the nodes adjacent to `node` in H.
+  using Neighbors = std::function<void(int node, std::vector<int>& out)>;
+
+  void clear();
+  /// A new node of dimension `dim` (ids count up from 0); it enters the factor at the next
+  /// refactor, which must name it as changed.
+  int add(int dim);
+  [[nodiscard]] int size() const { return static_cast<int>(dims_.size()); }
+  [[nodiscard]] int position(int node) const { return pos_[node]; }
+  [[nodiscard]] std::size_t offDiagonalBlocks() const;
+
+  struct Result {
+    int eliminated = 0;  ///< nodes eliminated
+    int failed = -1;     ///< node whose pivot block is not positive definite
+  };
+  /// Re-eliminates the nodes whose columns of H changed and their ancestors, ordered again
+  /// with the nodes of `last` at the end (and computes their part of the forward solution
+  /// L y = rhs). On failure the factor is unusable until clear().
+  Result refactor(const std::vector<int>& changed, const std::vector<int>& last,
+                  const Neighbors& neighbors, const Assemble& assemble);
+
+  /// Back-substitution L^T x = y. A node is solved again when the last refactor eliminated
+  /// it or a solution it depends on changed by more than `threshold`; returns the nodes
+  /// whose solution changed.
+  std::vector<int> solve(double threshold);
+  /// Solution block of a node (its dimension in entries).
+  [[nodiscard]] Eigen::Map<const Eigen::VectorXd> solution(int node) const;
+  /// Sets a node's solution block to zero (its vertex was relinearised there).
+  void zeroSolution(int node);
+
+  /// The block of H^-1 of a node: Z^T Z with Z = L^-1 E_node, which is non-zero only on the
+  /// path from the node to the root.
+  [[nodiscard]] Eigen::MatrixXd inverseBlock(int node) const;
+
+ private:
+  struct Column {
+    std::vector<int> rows;         // nodes q after this one with L(q, p) != 0, by position
+    std::vector<int> row_offsets;  // first panel row of each, after the d_p diagonal rows
+    int height = 0;                // d_p + sum of the rows' dimensions
+    std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
+  };
+  [[nodiscard]] int parent(int node) const {
+    return columns_[node].rows.empty() ? -1 : columns_[node].rows.front();
+  }
+  std::vector<int> affectedNodes(const std::vector<int>& changed);
+  std::vector<int> orderAffected(const std::vector<int>& affected, const std::vector<int>& last,
+                                 const Neighbors& neighbors) const;
+  void moveToEnd(const std::vector<int>& affected, const std::vector<int>& order);
+  void sortRows(int node);
+  bool eliminate(int p, const Assemble& assemble);
+  void subtractDescendants(int p);
+  void storeColumn(int p, const Eigen::MatrixXd& pivot_factor);
+
+  std::vector<int> dims_;
+  std::vector<int> starts_;  // scalar offset of each node in y and x
+  std::vector<int> pos_;     // node -> elimination position
+  std::vector<int> node_at_;  // position -> node
+  std::vector<Column> columns_;
+  std::vector<std::vector<int>> row_of_;  // row structure: nodes k with L(p, k) != 0
+  std::vector<double> y_, x_;
+  std::vector<char> affected_;  // by the last refactor
+  ColumnBuilder builder_;
+};
+
+}  // namespace graphslam::incremental

@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: MIT
+#include "graphslam/incremental/incremental_optimizer.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "block_factor.h"
+#include "graphslam/core/error.h"
+#include "graphslam/core/linear_system.h"
+
+namespace graphslam::incremental {
+
+namespace {
+
+// A free vertex of the system (node of the factor with the same index): its linearisation
+// point (flat estimate data) and the factors (edges) that touch it.
+struct Variable {
+  Vertex* vertex = nullptr;
+  std::vector<double> theta0;
+  std::vector<int> factors;
+};
+
+// An edge with its quadratic form at the linearisation points of its vertices, kept as a
+// dense matrix over its free vertices (both triangles) and the gradient J^T Omega e.
+struct Factor {
+  Edge* edge = nullptr;
+  std::vector<int> vars;     // per slot, -1 for a fixed vertex
+  std::vector<int> offsets;  // per slot, first row in `hessian`, -1 for a fixed vertex
+  int dim = 0;
+  std::vector<double> hessian;
+  std::vector<double> gradient;
+};
+
+}  // namespace
+
+struct IncrementalOptimizer::Impl {
+  explicit Impl(Graph& g, const Options& o) : graph(g), options(o) {}
+
+  bool update();
+  void rebuild();
+  void integrateNewEdges(std::vector<int>& touched);
+  int variableFor(Vertex& v);
+  void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_positions);
+  void assemble(int p, ColumnBuilder& builder) const;
+  void applySteps(const std::vector<int>& nodes, std::vector<int>& relinearize);
+  void remember(int var);
+  void restoreAfterFailure(int node);
+
+  Graph& graph;
+  const Options& options;
+  std::unordered_map<VertexId, int> var_of;
+  std::vector<Variable> vars;
+  std::unordered_map<const Edge*, int> factor_of;
+  std::vector<Factor> factors;
+  std::vector<Edge*> new_edges;
+  bool needs_rebuild = true;
+  bool anchored = false;
+  std::uint64_t version = 0;
+  BlockFactor factor;
+  UpdateStats stats;
+  UpdateFailure failure;
+  bool ready = false;
+  std::vector<std::pair<int, std::vector<double>>> undo;  // estimates before this update
+  std::vector<char> remembered;  // per variable: in the undo log
+  std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
+};
+
+IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
+    : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
+  if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
+      !(options_.backsubstitution_threshold >= 0.0)) {
+    throw Error("IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
+                "max_passes >= 1)");
+  }
+  impl_->version = graph_.structureVersion();
+}
+
+IncrementalOptimizer::~IncrementalOptimizer() = default;
+
+Vertex& IncrementalOptimizer::addVertex(std::unique_ptr<Vertex> vertex) {
+  const bool in_sync = graph_.structureVersion() == impl_->version;
+  Vertex& v = graph_.addVertex(std::move(vertex));
+  if (in_sync) impl_->version = graph_.structureVersion();
+  return v;
+}
+
+Edge& IncrementalOptimizer::addEdge(std::unique_ptr<Edge> edge) {
+  const bool in_sync = graph_.structureVersion() == impl_->version;
+  Edge& e = graph_.addEdge(std::move(edge));
+  if (in_sync) impl_->version = graph_.structureVersion();
+  impl_->new_edges.push_back(&e);
+  return e;
+}
+
+bool IncrementalOptimizer::removeEdge(const Edge* edge) {
+  impl_->new_edges.erase(std::remove(impl_->new_edges.begin(), impl_->new_edges.end(), edge),
+                         impl_->new_edges.end());
+  const bool in_sync = graph_.structureVersion() == impl_->version;
+  if (!graph_.removeEdge(edge)) return false;
+  if (in_sync) impl_->version = graph_.structureVersion();
+  impl_->needs_rebuild = true;
+  ++impl_->stats.removed_edges;
+  return true;
+}
+
+bool IncrementalOptimizer::update() { return impl_->update(); }
+const UpdateStats& IncrementalOptimizer::lastStats() const { return impl_->stats; }
+const UpdateFailure& IncrementalOptimizer::failure() const { return impl_->failure; }
+double IncrementalOptimizer::chi2() {
+  double sum = 0.0;
+  for (const auto& e : graph_.edges()) {
+    if (!e->active()) continue;
+    e->computeError();
+    sum += e->robustChi2();
+  }
+  return sum;
+}
+std::size_t IncrementalOptimizer::factorColumns() const { return impl_->factor.size(); }
+std::size_t IncrementalOptimizer::factorBlocks() const { return impl_->factor.offDiagonalBlocks(); }
+
+Eigen::MatrixXd IncrementalOptimizer::marginalCovariance(VertexId id) const {
+  if (!impl_->ready) throw Error("marginalCovariance: no successful update() yet");
+  const auto it = impl_->var_of.find(id);
+  if (it == impl_->var_of.end()) {
+    throw Error("marginalCovariance: vertex " + std::to_string(id) +
+                " is not a free vertex of the optimisation (fixed, unknown or without edges)");
+  }
+  return impl_->factor.inverseBlock(it->second);
+}
+
+// ---------------------------------------------------------------------------------------
+
+bool IncrementalOptimizer::Impl::update() {
+  const int removed = stats.removed_edges;
+  stats = UpdateStats{};
+  stats.removed_edges = removed;
+  failure = UpdateFailure{};
+  if (graph.structureVersion() != version) needs_rebuild = true;
+  stats.rebuilt = needs_rebuild && ready;
+  if (needs_rebuild) rebuild();
+  if (!anchored) anchored = fixGaugeIfFree(graph) != nullptr || !graph.edges().empty();
+  std::vector<int> touched;
+  const std::size_t vars_before = vars.size();
+  integrateNewEdges(touched);
+  stats.new_vertices = static_cast<int>(vars.size() - vars_before);
+  std::vector<int> last;  // the vertices of the new edges: kept last in the order
+  for (int id : touched) {
+    for (int var : factors[id].vars) {
+      if (var >= 0) last.push_back(var);
+    }
+  }
+  const auto neighbors = [this](int node, std::vector<int>& out) {
+    for (int id : vars[node].factors) {
+      for (int var : factors[id].vars) {
+        if (var >= 0) out.push_back(var);
+      }
+    }
+  };
+  const auto assembler = [this](int node, ColumnBuilder& b) { assemble(node, b); };
+  std::vector<int> nodes;
+  std::vector<int> relinearize;
+  for (stats.passes = 1;; ++stats.passes) {
+    nodes.clear();
+    linearize(touched, nodes);
+    const BlockFactor::Result r = factor.refactor(nodes, last, neighbors, assembler);
+    stats.eliminated_columns += r.eliminated;
+    if (r.failed >= 0) {
+      restoreAfterFailure(r.failed);
+      return false;
+    }
+    relinearize.clear();
+    applySteps(factor.solve(options.backsubstitution_threshold), relinearize);
+    if (relinearize.empty()) break;
+    if (stats.passes == options.max_passes) {
+      stats.pass_limit_reached = true;
+      break;
+    }
+    // Move the linearisation points of the vertices that went far, and take their edges.
+    touched.clear();
+    for (int var : relinearize) {
+      Variable& v = vars[var];
+      v.vertex->getEstimateData(v.theta0.data());
+      factor.zeroSolution(var);
+      touched.insert(touched.end(), v.factors.begin(), v.factors.end());
+    }
+    stats.relinearized_vertices += static_cast<int>(relinearize.size());
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  }
+  for (const auto& entry : undo) remembered[entry.first] = 0;
+  undo.clear();
+  version = graph.structureVersion();
+  ready = true;
+  return true;
+}
+
+void IncrementalOptimizer::Impl::rebuild() {
+  var_of.clear();
+  vars.clear();
+  factor_of.clear();
+  factors.clear();
+  factor.clear();
+  new_edges.clear();
+  remembered.clear();
+  moved_flag.clear();
+  for (const auto& e : graph.edges()) new_edges.push_back(e.get());
+  needs_rebuild = false;
+}
+
+int IncrementalOptimizer::Impl::variableFor(Vertex& v) {
+  const auto [it, inserted] = var_of.emplace(v.id(), static_cast<int>(vars.size()));
+  if (!inserted) return it->second;
+  Variable var;
+  var.vertex = &v;
+  var.theta0.resize(v.estimateDataDimension());
+  v.getEstimateData(var.theta0.data());
+  factor.add(v.dimension());  // node id == variable index
+  vars.push_back(std::move(var));
+  remembered.push_back(0);
+  moved_flag.push_back(0);
+  return it->second;
+}
+
+// New edges become factors; their free vertices become variables (appended at the end of
+// the elimination order). `touched` receives the new factors.
+void IncrementalOptimizer::Impl::integrateNewEdges(std::vector<int>& touched) {
+  for (Edge* e : new_edges) {
+    if (!e->active()) continue;
+    Factor f;
+    f.edge = e;
+    const std::size_t n = e->numVertices();
+    for (std::size_t s = 0; s < n; ++s) {
+      Vertex* v = graph.vertex(e->vertexId(s));
+      if (v->fixed()) {
+        f.vars.push_back(-1);
+        f.offsets.push_back(-1);
+        continue;
+      }
+      f.vars.push_back(variableFor(*v));
+      f.offsets.push_back(f.dim);
+      f.dim += v->dimension();
+    }
+    const int id = static_cast<int>(factors.size());
+    for (int var : f.vars) {
+      if (var >= 0) vars[var].factors.push_back(id);
+    }
+    factor_of.emplace(e, id);
+    factors.push_back(std::move(f));
+    touched.push_back(id);
+    ++stats.new_edges;
+  }
+  new_edges.clear();
+}
+
+// Linearises the factors at the linearisation points of their vertices (a vertex holding
+// theta0 + x with x != 0 is moved to theta0 for it and back after) and collects the
+// elimination positions whose columns of H change.
+void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
+                                           std::vector<int>& changed_positions) {
+  std::vector<int> moved;
+  for (int id : factor_ids) {
+    for (int var : factors[id].vars) {
+      if (var < 0 || moved_flag[var] != 0) continue;
+      if (factor.solution(var).cwiseAbs().maxCoeff() == 0.0) continue;
+      moved_flag[var] = 1;
+      moved.push_back(var);
+      vars[var].vertex->setEstimateData(vars[var].theta0.data());
+    }
+  }
+  std::vector<HessianBlockRef> refs;
+  for (int id : factor_ids) {
+    Factor& f = factors[id];
+    Edge& e = *f.edge;
+    e.computeError();
+    e.linearizeOplus();
+    if (e.perturbsVerticesInPlace()) e.computeError();
+    const int n = static_cast<int>(f.vars.size());
+    refs.assign(static_cast<std::size_t>(n * (n + 1) / 2), HessianBlockRef{});
+    for (int a = 0; a < n; ++a) {
+      for (int b = a; b < n; ++b) {
+        if (f.offsets[a] < 0 || f.offsets[b] < 0) continue;
+        refs[upperPairIndex(a, b, n)] = HessianBlockRef{f.offsets[a] + f.offsets[b] * f.dim, f.dim, false};
+      }
+    }
+    f.hessian.assign(static_cast<std::size_t>(f.dim) * f.dim, 0.0);
+    f.gradient.assign(f.dim, 0.0);
+    e.constructQuadraticForm(QuadraticFormTarget{f.hessian.data(), f.gradient.data(), refs.data(),
+                                                 f.offsets.data()});
+    for (int c = 0; c < f.dim; ++c) {
+      for (int r = c + 1; r < f.dim; ++r) f.hessian[r + c * f.dim] = f.hessian[c + r * f.dim];
+    }
+    for (int var : f.vars) {
+      if (var >= 0) changed_positions.push_back(var);
+    }
+  }
+  for (int var : moved) {
+    Variable& v = vars[var];
+    v.vertex->oplus(factor.solution(var).data());
+    moved_flag[var] = 0;
+  }
+  stats.relinearized_edges += static_cast<int>(factor_ids.size());
+  std::sort(changed_positions.begin(), changed_positions.end());
+  changed_positions.erase(std::unique(changed_positions.begin(), changed_positions.end()),
+                          changed_positions.end());
+}
+
+// Column p of H (rows at or after p) and -g_p: the sum over the factors of p's vertex.
+void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
+  const int var = p;
+  const int position = factor.position(p);
+  auto rhs = builder.rhs();
+  for (int id : vars[var].factors) {
+    const Factor& f = factors[id];
+    const Eigen::Map<const Eigen::MatrixXd> h(f.hessian.data(), f.dim, f.dim);
+    const auto slot = static_cast<std::size_t>(
+        std::find(f.vars.begin(), f.vars.end(), var) - f.vars.begin());
+    const int col = f.offsets[slot];
+    const int dp = vars[var].vertex->dimension();
+    rhs -= Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + col, dp);
+    for (std::size_t t = 0; t < f.vars.size(); ++t) {
+      if (f.vars[t] < 0) continue;
+      const int other = f.vars[t];
+      if (factor.position(other) < position) continue;
+      builder.block(other) += h.block(f.offsets[t], col, vars[other].vertex->dimension(), dp);
+    }
+  }
+}
+
+// Sets the vertices of the given positions to theta0 + x and lists those whose step x
+// exceeds the relinearisation threshold.
+void IncrementalOptimizer::Impl::applySteps(const std::vector<int>& nodes,
+                                            std::vector<int>& relinearize) {
+  for (int var : nodes) {
+    Variable& v = vars[var];
+    remember(var);
+    const auto x = factor.solution(var);
+    v.vertex->setEstimateData(v.theta0.data());
+    v.vertex->oplus(x.data());
+    if (x.cwiseAbs().maxCoeff() > options.relinearize_threshold) relinearize.push_back(var);
+  }
+}
+
+void IncrementalOptimizer::Impl::remember(int var) {
+  if (remembered[var] != 0) return;
+  remembered[var] = 1;
+  std::vector<double> data(vars[var].vertex->estimateDataDimension());
+  vars[var].vertex->getEstimateData(data.data());
+  undo.emplace_back(var, std::move(data));
+}
+
+void IncrementalOptimizer::Impl::restoreAfterFailure(int node) {
+  const Vertex& v = *vars[node].vertex;
+  failure.vertex = v.id();
+  failure.message = "update: the system is not positive definite at vertex " +
+                    std::to_string(v.id()) +
+                    ": its edges do not determine it (or an information matrix is not positive "
+                    "definite); the estimates are those before the update";
+  for (auto& [var, data] : undo) vars[var].vertex->setEstimateData(data.data());
+  undo.clear();
+  needs_rebuild = true;
+  ready = false;
+}
+
+}  // namespace graphslam::incremental
