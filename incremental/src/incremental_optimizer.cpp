@@ -59,7 +59,8 @@ struct IncrementalOptimizer::Impl {
   BlockFactor factor;
   UpdateStats stats;
   UpdateFailure failure;
-  bool ready = false;
+  bool ready = false;  // a successful update() made the factor
+  bool built = false;  // an update() ran
   std::vector<std::pair<int, std::vector<double>>> undo;  // estimates before this update
   std::vector<char> remembered;  // per variable: in the undo log
   std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
@@ -136,7 +137,8 @@ bool IncrementalOptimizer::Impl::update() {
   stats.removed_edges = removed;
   failure = UpdateFailure{};
   if (graph.structureVersion() != version) needs_rebuild = true;
-  stats.rebuilt = needs_rebuild && ready;
+  stats.rebuilt = needs_rebuild && built;
+  built = true;
   if (needs_rebuild) rebuild();
   if (!anchored) anchored = fixGaugeIfFree(graph) != nullptr || !graph.edges().empty();
   std::vector<int> touched;

@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: MIT
+// IncrementalOptimizer against the batch Optimizer on the same graphs: estimates and chi2 after
+// updates, marginal covariances, failures, edge removal, direct graph changes, 3D.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "graphslam/core/marginals.h"
+#include "graphslam/core/optimizer.h"
+#include "graphslam/core/type_registry.h"
+#include "graphslam/incremental/incremental_optimizer.h"
+#include "graphslam/solvers/register.h"
+#include "graphslam/types_slam2d/edge_bearing_se2_xy.h"
+#include "graphslam/types_slam2d/edge_se2.h"
+#include "graphslam/types_slam2d/register.h"
+#include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+#include "graphslam/types_slam3d/edges.h"
+#include "graphslam/types_slam3d/register.h"
+#include "graphslam/types_slam3d/vertex_se3.h"
+
+namespace graphslam {
+namespace {
+
+using incremental::IncrementalOptimizer;
+using types_slam2d::SE2;
+using types_slam3d::SE3;
+
+struct Registries {
+  Registries() {
+    types_slam2d::registerTypes(types);
+    types_slam3d::registerTypes(types);
+    solvers::registerSolvers(solvers);
+  }
+  TypeRegistry types;
+  SolverRegistry solvers;
+};
+
+Registries& registries() {
+  static Registries r;
+  return r;
+}
+
+// A copy of `g` made through the registry (estimates, measurements, information, fixed flags).
+Graph copyGraph(const Graph& g) {
+  const TypeRegistry& types = registries().types;
+  Graph out;
+  for (const auto& [id, v] : g.vertices()) {
+    auto c = types.createVertex(*types.tagOf(*v));
+    c->setId(id);
+    std::vector<double> data(v->estimateDataDimension());
+    v->getEstimateData(data.data());
+    c->setEstimateData(data.data());
+    c->setFixed(v->fixed());
+    out.addVertex(std::move(c));
+  }
+  for (const auto& e : g.edges()) {
+    auto c = types.createEdge(*types.tagOf(*e));
+    c->setVertexIds(e->vertexIds());
+    std::vector<double> m(e->measurementDataDimension());
+    e->getMeasurementData(m.data());
+    c->setMeasurementData(m.data());
+    c->setInformationData(e->informationData());
+    out.addEdge(std::move(c));
+  }
+  return out;
+}
+
+double batchChi2(const Graph& g, Graph* optimised = nullptr) {
+  Graph copy = copyGraph(g);
+  Optimizer opt(copy, registries().solvers);
+  const Summary s = opt.optimize();
+  EXPECT_TRUE(s.succeeded()) << s.message;
+  const double chi2 = opt.chi2();
+  if (optimised != nullptr) *optimised = std::move(copy);
+  return chi2;
+}
+
+// A robot driving `laps` times around a square of `side` poses, with noisy odometry and a
+// loop closure to the pose one lap before; poses are added one by one.
+class SquareLaps {
+ public:
+  SquareLaps(int side, int laps, unsigned seed) : side_(side), rng_(seed) {
+    const int n = 4 * side * laps;
+    for (int k = 0; k < n; ++k) {
+      const double heading = (k / side) * M_PI / 2;
+      const int along = k % side;
+      const Eigen::Vector2d corner[4] = {{0, 0}, {side, 0}, {side, side}, {0, side}};
+      const Eigen::Vector2d dir(std::cos(heading), std::sin(heading));
+      const Eigen::Vector2d p = corner[(k / side) % 4] + along * dir;
+      truth_.emplace_back(p.x(), p.y(), heading);
+    }
+  }
+  [[nodiscard]] int size() const { return static_cast<int>(truth_.size()); }
+
+  // Adds pose k (composed from the current estimate of k-1 and the odometry) and its edges.
+  void addStep(IncrementalOptimizer& inc, int k) {
+    std::normal_distribution<double> noise(0.0, 0.02);
+    auto v = std::make_unique<types_slam2d::VertexSE2>();
+    v->setId(k);
+    if (k == 0) {
+      v->setEstimate(truth_[0]);
+      inc.addVertex(std::move(v));
+      return;
+    }
+    const SE2 odo = truth_[k - 1].inverse() * truth_[k] *
+                    SE2(noise(rng_), noise(rng_), noise(rng_));
+    const auto& prev = static_cast<const types_slam2d::VertexSE2&>(*inc.graph().vertex(k - 1));
+    v->setEstimate(prev.estimate() * odo);
+    inc.addVertex(std::move(v));
+    addEdge(inc, k - 1, k, odo);
+    const int back = 4 * side_;
+    if (k >= back) {
+      addEdge(inc, k - back, k,
+              truth_[k - back].inverse() * truth_[k] * SE2(noise(rng_), noise(rng_), noise(rng_)));
+    }
+  }
+
+ private:
+  static void addEdge(IncrementalOptimizer& inc, int i, int j, const SE2& z) {
+    auto e = std::make_unique<types_slam2d::EdgeSE2>();
+    e->setVertexIds({i, j});
+    e->setMeasurement(z);
+    e->setInformation(Eigen::Matrix3d::Identity() * 100.0);
+    inc.addEdge(std::move(e));
+  }
+
+  int side_;
+  std::mt19937 rng_;
+  std::vector<SE2> truth_;
+};
+
+TEST(Incremental, GrowingPoseGraphMatchesBatchAtEveryCheckedStep) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  SquareLaps laps(8, 4, 7);
+  std::mt19937 pick(11);
+  int checked = 0;
+  for (int k = 0; k < laps.size(); ++k) {
+    laps.addStep(inc, k);
+    ASSERT_TRUE(inc.update()) << inc.failure().message;
+    if (k < 2 || pick() % 8 != 0) continue;
+    Graph batch;
+    const double expected = batchChi2(graph, &batch);
+    const double chi2 = inc.chi2();
+    EXPECT_NEAR(chi2, expected, 1e-6 * expected + 1e-9) << "step " << k;
+    for (const auto& [id, v] : batch.vertices()) {
+      const auto& a = static_cast<const types_slam2d::VertexSE2&>(*v).estimate();
+      const auto& b = static_cast<const types_slam2d::VertexSE2&>(*graph.vertex(id)).estimate();
+      EXPECT_LT((a.translation() - b.translation()).norm(), 1e-4) << "step " << k << " pose " << id;
+      EXPECT_LT(std::abs(types_slam2d::normalizeAngle(a.angle() - b.angle())), 1e-4);
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 5);
+  EXPECT_TRUE(graph.vertex(0)->fixed()) << "the gauge: the first pose is fixed";
+}
+
+TEST(Incremental, UpdateAfterOdometryOnlyTouchesFewColumns) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  SquareLaps laps(10, 1, 3);  // one lap: no loop closure
+  for (int k = 0; k < laps.size(); ++k) {
+    laps.addStep(inc, k);
+    ASSERT_TRUE(inc.update());
+    if (k > 5) EXPECT_LE(inc.lastStats().eliminated_columns, 3) << "step " << k;
+  }
+}
+
+TEST(Incremental, MarginalCovarianceMatchesBatch) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  SquareLaps laps(6, 2, 5);
+  for (int k = 0; k < laps.size(); ++k) {
+    laps.addStep(inc, k);
+    ASSERT_TRUE(inc.update());
+  }
+  MarginalCovariance marginals;
+  const VertexId last = laps.size() - 1;
+  ASSERT_TRUE(marginals.compute(graph, {last, 7}).ok());
+  for (VertexId id : {last, VertexId{7}}) {
+    const Eigen::MatrixXd expected = marginals.block(id);
+    const Eigen::MatrixXd got = inc.marginalCovariance(id);
+    // The incremental factor is linearised at points within the relinearisation threshold
+    // (1e-3) of the estimates the batch computation linearises at.
+    EXPECT_LT((got - expected).norm(), 2e-3 * expected.norm()) << "vertex " << id;
+  }
+  EXPECT_THROW((void)inc.marginalCovariance(0), Error);  // the fixed gauge vertex
+}
+
+TEST(Incremental, UndeterminedVertexFailsNamingItAndKeepsEstimates) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  SquareLaps laps(5, 1, 1);
+  for (int k = 0; k < 6; ++k) laps.addStep(inc, k);
+  ASSERT_TRUE(inc.update());
+  const double before = inc.chi2();
+  auto l = std::make_unique<types_slam2d::VertexXY>();
+  l->setId(100);
+  l->setEstimate(Eigen::Vector2d(3, 4));
+  inc.addVertex(std::move(l));
+  auto b = std::make_unique<types_slam2d::EdgeBearingSE2XY>();
+  b->setVertexIds({5, 100});
+  b->setMeasurement(0.3);
+  inc.addEdge(std::move(b));
+  EXPECT_FALSE(inc.update());
+  EXPECT_EQ(inc.failure().vertex, 100);
+  EXPECT_NE(inc.failure().message.find("vertex 100"), std::string::npos);
+  EXPECT_EQ(static_cast<const types_slam2d::VertexXY&>(*graph.vertex(100)).estimate(),
+            Eigen::Vector2d(3, 4));
+  // A second bearing from another pose determines it.
+  auto b2 = std::make_unique<types_slam2d::EdgeBearingSE2XY>();
+  b2->setVertexIds({0, 100});
+  b2->setMeasurement(0.9);
+  inc.addEdge(std::move(b2));
+  EXPECT_TRUE(inc.update()) << inc.failure().message;
+  EXPECT_TRUE(inc.lastStats().rebuilt);
+  EXPECT_GE(inc.chi2(), 0.0);
+  EXPECT_GT(before, -1.0);
+}
+
+TEST(Incremental, RemovedEdgeAndDirectChangesRebuild) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  SquareLaps laps(6, 3, 9);
+  for (int k = 0; k < laps.size(); ++k) {
+    laps.addStep(inc, k);
+    ASSERT_TRUE(inc.update());
+  }
+  const Edge* closure = graph.edges().back().get();
+  ASSERT_TRUE(inc.removeEdge(closure));
+  ASSERT_TRUE(inc.update());
+  EXPECT_EQ(inc.lastStats().removed_edges, 1);
+  EXPECT_NEAR(inc.chi2(), batchChi2(graph), 1e-6 * batchChi2(graph));
+  // An edge added to the graph directly, not through the optimizer.
+  auto e = std::make_unique<types_slam2d::EdgeSE2>();
+  e->setVertexIds({2, 30});
+  e->setMeasurement(SE2(1.0, 0.5, 0.1));
+  graph.addEdge(std::move(e));
+  ASSERT_TRUE(inc.update());
+  EXPECT_TRUE(inc.lastStats().rebuilt);
+  EXPECT_NEAR(inc.chi2(), batchChi2(graph), 1e-6 * batchChi2(graph));
+}
+
+TEST(Incremental, Se3PoseGraphMatchesBatch) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  std::vector<SE3> truth;
+  const int n = 60;
+  for (int k = 0; k < n; ++k) {
+    Eigen::Matrix<double, 6, 1> xi;
+    xi << 1.0, 0.0, 0.1, 0.0, 0.05, 2 * M_PI / 20;
+    truth.push_back(k == 0 ? SE3() : truth.back() * SE3::exp(xi));
+  }
+  const auto noisy = [&](const SE3& z) {
+    Eigen::Matrix<double, 6, 1> d;
+    for (int i = 0; i < 6; ++i) d[i] = noise(rng);
+    return z * SE3::exp(d);
+  };
+  for (int k = 0; k < n; ++k) {
+    auto v = std::make_unique<types_slam3d::VertexSE3>();
+    v->setId(k);
+    SE3 odo;
+    if (k > 0) {
+      odo = noisy(truth[k - 1].inverse() * truth[k]);
+      v->setEstimate(static_cast<const types_slam3d::VertexSE3&>(*graph.vertex(k - 1)).estimate() * odo);
+    }
+    inc.addVertex(std::move(v));
+    std::vector<std::pair<int, SE3>> edges;
+    if (k > 0) edges.emplace_back(k - 1, odo);
+    if (k >= 20) edges.emplace_back(k - 20, noisy(truth[k - 20].inverse() * truth[k]));
+    for (const auto& [i, z] : edges) {
+      auto e = std::make_unique<types_slam3d::EdgeSE3>();
+      e->setVertexIds({i, k});
+      e->setMeasurement(z);
+      e->setInformation(Eigen::Matrix<double, 6, 6>::Identity() * 50.0);
+      inc.addEdge(std::move(e));
+    }
+    ASSERT_TRUE(inc.update()) << inc.failure().message;
+    if (k % 15 == 14) {
+      const double expected = batchChi2(graph);
+      EXPECT_NEAR(inc.chi2(), expected, 1e-6 * expected + 1e-9) << "step " << k;
+    }
+  }
+}
+
+TEST(Incremental, OptionsOutOfRangeThrow) {
+  Graph graph;
+  incremental::Options o;
+  o.relinearize_threshold = -1.0;
+  EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
+  o = {};
+  o.max_passes = 0;
+  EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
+  o = {};
+  o.backsubstitution_threshold = std::nan("");
+  EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
+}
+
+}  // namespace
+}  // namespace graphslam
