@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <queue>
 
 #include <Eigen/Cholesky>
 
@@ -48,9 +49,16 @@ void BlockFactor::clear() {
   dims_.clear();
   starts_.assign(1, 0);
   pos_.clear();
-  node_at_.clear();
+  next_key_ = 0;
+  affected_list_.clear();
+  local_.clear();
+  queued_.clear();
+  order_.clear();
   columns_.clear();
-  row_of_.clear();
+  parent_.clear();
+  children_.clear();
+  moved_.clear();
+  front_offset_.clear();
   y_.clear();
   x_.clear();
   affected_.clear();
@@ -61,10 +69,14 @@ int BlockFactor::add(int dim) {
   dims_.push_back(dim);
   if (starts_.empty()) starts_.push_back(0);
   starts_.push_back(starts_.back() + dim);
-  pos_.push_back(node);
-  node_at_.push_back(node);
+  pos_.push_back(next_key_++);
+  local_.push_back(-1);
+  queued_.push_back(0);
   columns_.emplace_back();
-  row_of_.emplace_back();
+  parent_.push_back(-1);
+  children_.emplace_back();
+  moved_.push_back(0);
+  front_offset_.push_back(0);
   y_.resize(starts_.back(), 0.0);
   x_.resize(starts_.back(), 0.0);
   affected_.push_back(0);
@@ -81,10 +93,10 @@ BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
                                           const std::vector<int>& last,
                                           const Neighbors& neighbors, const Assemble& assemble) {
   const std::vector<int> affected = affectedNodes(changed);
-  moveToEnd(affected, orderAffected(affected, last, neighbors));
+  order_ = orderAffected(affected, last, neighbors);
+  moveToEnd(affected, order_);
   Result result;
-  for (int p = size() - static_cast<int>(affected.size()); p < size(); ++p) {
-    const int node = node_at_[p];
+  for (int node : order_) {
     if (!eliminate(node, assemble)) {
       result.failed = node;
       return result;
@@ -96,7 +108,7 @@ BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
 
 // The changed nodes and all their ancestors (parent = first row of a column).
 std::vector<int> BlockFactor::affectedNodes(const std::vector<int>& changed) {
-  std::fill(affected_.begin(), affected_.end(), 0);
+  for (int node : affected_list_) affected_[node] = 0;
   std::vector<int> affected;
   for (int node : changed) {
     for (int k = node; k >= 0 && affected_[k] == 0; k = parent(k)) {
@@ -104,6 +116,7 @@ std::vector<int> BlockFactor::affectedNodes(const std::vector<int>& changed) {
       affected.push_back(k);
     }
   }
+  affected_list_ = affected;
   return affected;
 }
 
@@ -112,8 +125,8 @@ std::vector<int> BlockFactor::affectedNodes(const std::vector<int>& changed) {
 // the subtree left among them).
 std::vector<int> BlockFactor::orderAffected(const std::vector<int>& affected,
                                             const std::vector<int>& last,
-                                            const Neighbors& neighbors) const {
-  std::vector<int> local(size(), -1);
+                                            const Neighbors& neighbors) {
+  std::vector<int>& local = local_;
   for (std::size_t i = 0; i < affected.size(); ++i) local[affected[i]] = static_cast<int>(i);
   std::vector<std::vector<int>> adjacency(affected.size());
   std::vector<int> around;
@@ -124,8 +137,8 @@ std::vector<int> BlockFactor::orderAffected(const std::vector<int>& affected,
     for (int q : around) {
       if (local[q] >= 0 && q != node) adjacency[i].push_back(local[q]);
     }
-    for (int k : row_of_[node]) {
-      if (affected_[k] != 0 || parent(k) != node) continue;
+    for (int k : children_[node]) {
+      if (affected_[k] != 0) continue;
       const std::vector<int>& clique = columns_[k].rows;
       for (int a : clique) {
         for (int b : clique) {
@@ -140,156 +153,178 @@ std::vector<int> BlockFactor::orderAffected(const std::vector<int>& affected,
   }
   std::vector<int> order = constrainedBlockOrdering(adjacency, at_end);
   for (int& i : order) i = affected[i];
+  for (int node : affected) local[node] = -1;
   return order;
 }
 
-// New positions: the unaffected nodes keep their relative order, the affected ones follow in
-// `order`. Columns of unaffected nodes keep their values; those with affected rows get their
-// rows sorted again. The affected nodes' columns are emptied for elimination.
+// New keys: the affected nodes, in `order`, after every other node (whose columns keep their
+// values). The roots of the unaffected subtrees below them find their parents among the
+// new keys; the affected nodes' columns are emptied for elimination.
 void BlockFactor::moveToEnd(const std::vector<int>& affected, const std::vector<int>& order) {
-  int next = 0;
-  std::vector<int> node_at(size());
-  for (int node : node_at_) {
-    if (affected_[node] == 0) node_at[next++] = node;
-  }
-  for (int node : order) node_at[next++] = node;
-  node_at_ = std::move(node_at);
-  for (int p = 0; p < size(); ++p) pos_[node_at_[p]] = p;
-  std::vector<int> resort;
+  for (int node : order) pos_[node] = next_key_++;
+  std::vector<int> orphans;
   for (int q : affected) {
-    std::vector<int>& rows = row_of_[q];
-    for (int k : rows) {
-      if (affected_[k] == 0 && (resort.empty() || resort.back() != k)) resort.push_back(k);
+    for (int k : children_[q]) {
+      if (affected_[k] == 0) orphans.push_back(k);
     }
-    rows.erase(std::remove_if(rows.begin(), rows.end(), [this](int k) { return affected_[k] != 0; }),
-               rows.end());
+    children_[q].clear();
+    columns_[q].rows.clear();
+    columns_[q].height = 0;
   }
-  std::sort(resort.begin(), resort.end());
-  resort.erase(std::unique(resort.begin(), resort.end()), resort.end());
-  for (int k : resort) sortRows(k);
-  for (int q : affected) columns_[q] = Column{};
-}
-
-void BlockFactor::sortRows(int node) {
-  Column& c = columns_[node];
-  const auto by_position = [this](int a, int b) { return pos_[a] < pos_[b]; };
-  if (std::is_sorted(c.rows.begin(), c.rows.end(), by_position)) return;
-  std::vector<std::size_t> idx(c.rows.size());
-  std::iota(idx.begin(), idx.end(), 0);
-  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
-    return pos_[c.rows[a]] < pos_[c.rows[b]];
-  });
-  const int dp = dims_[node];
-  Column sorted;
-  sorted.height = dp;
-  sorted.panel.resize(c.panel.size());
-  MatrixMap to(sorted.panel.data(), c.height, dp);
-  const ConstMatrixMap from(c.panel.data(), c.height, dp);
-  to.topRows(dp) = from.topRows(dp);
-  for (std::size_t i : idx) {
-    const int q = c.rows[i];
-    sorted.rows.push_back(q);
-    sorted.row_offsets.push_back(sorted.height);
-    to.middleRows(sorted.height, dims_[q]) = from.middleRows(c.row_offsets[i], dims_[q]);
-    sorted.height += dims_[q];
+  for (int k : orphans) {
+    const std::vector<int>& rows = columns_[k].rows;
+    parent_[k] = *std::min_element(rows.begin(), rows.end(),
+                                   [this](int a, int b) { return before(a, b); });
+    children_[parent_[k]].push_back(k);
   }
-  c = std::move(sorted);
 }
 
 bool BlockFactor::eliminate(int p, const Assemble& assemble) {
-  builder_.begin(p, dims_);
-  assemble(p, builder_);
-  subtractDescendants(p);
-  const int dp = dims_[p];
-  const MatrixMap pivot(builder_.values_.data(), dp, dp);
-  if (!pivot.allFinite()) return false;
-  const Eigen::LLT<Eigen::MatrixXd> llt(pivot);
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::MatrixXd lpp = llt.matrixL();
-  Eigen::Map<Eigen::VectorXd> y(y_.data() + starts_[p], dp);
-  y = lpp.triangularView<Eigen::Lower>().solve(builder_.rhs());
-  storeColumn(p, lpp);
+  assembleFront(p, assemble);
+  extendAddChildren(p);
+  if (!factorFront(p)) return false;
+  const Column& c = columns_[p];
+  parent_[p] = c.rows.empty() ? -1 : c.rows.front();
+  if (parent_[p] >= 0) children_[parent_[p]].push_back(p);
   return true;
 }
 
-// H(q, p) -= L(q, k) L(p, k)^T and rhs_p -= L(p, k) y_k for every node k before p with
-// L(p, k) != 0: one product of k's panel from row p down with L(p, k)^T per such node.
-void BlockFactor::subtractDescendants(int p) {
-  const int dp = dims_[p];
-  Eigen::Map<Eigen::VectorXd> rhs = builder_.rhs();
-  Eigen::MatrixXd product;
-  for (int k : row_of_[p]) {
-    const Column& c = columns_[k];
-    const int dk = dims_[k];
-    const auto it = std::lower_bound(c.rows.begin(), c.rows.end(), p,
-                                     [this](int a, int b) { return pos_[a] < pos_[b]; });
-    const auto i = static_cast<std::size_t>(it - c.rows.begin());
-    const int first = c.row_offsets[i];
-    const ConstMatrixMap panel(c.panel.data(), c.height, dk);
-    const auto lpk = panel.middleRows(first, dp);
-    product.noalias() = panel.bottomRows(c.height - first) * lpk.transpose();
-    builder_.block(p) -= product.topRows(dp);
-    for (std::size_t j = i + 1; j < c.rows.size(); ++j) {
-      const int q = c.rows[j];
-      builder_.block(q) -= product.middleRows(c.row_offsets[j] - first, dims_[q]);
+// The front of p: its rows (H's neighbours after p and its children's rows), column p of H
+// and the right-hand side of p.
+void BlockFactor::assembleFront(int p, const Assemble& assemble) {
+  builder_.begin(p, dims_);
+  assemble(p, builder_);
+  for (int child : children_[p]) {
+    for (int q : columns_[child].rows) {
+      if (q != p) (void)builder_.block(q);
     }
-    rhs.noalias() -= lpk * ConstVectorMap(y_.data() + starts_[k], dk);
   }
-}
-
-void BlockFactor::storeColumn(int p, const Eigen::MatrixXd& pivot_factor) {
+  Column& c = columns_[p];
   const int dp = dims_[p];
-  Column c;
   c.rows.assign(builder_.rows_.begin() + 1, builder_.rows_.end());
-  std::sort(c.rows.begin(), c.rows.end(), [this](int a, int b) { return pos_[a] < pos_[b]; });
+  std::sort(c.rows.begin(), c.rows.end(), [this](int a, int b) { return before(a, b); });
+  c.row_offsets.clear();
   c.height = dp;
+  front_offset_[p] = 0;
   for (int q : c.rows) {
     c.row_offsets.push_back(c.height);
+    front_offset_[q] = c.height;
     c.height += dims_[q];
-    row_of_[q].push_back(p);
   }
-  c.panel.resize(static_cast<std::size_t>(c.height) * dp);
-  MatrixMap panel(c.panel.data(), c.height, dp);
-  panel.topRows(dp) = pivot_factor;
-  for (std::size_t j = 0; j < c.rows.size(); ++j) {
-    const int q = c.rows[j];
-    panel.middleRows(c.row_offsets[j], dims_[q]) = builder_.block(q);
-  }
-  // L(q, p) = H'(q, p) L(p, p)^-T for all rows at once.
-  auto below = panel.bottomRows(c.height - dp);
-  pivot_factor.transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(below);
-  columns_[p] = std::move(c);
+  front_.setZero(c.height, c.height);
+  front_rhs_.setZero(c.height);
+  front_.block(0, 0, dp, dp) = builder_.block(p);
+  for (int q : c.rows) front_.block(front_offset_[q], 0, dims_[q], dp) = builder_.block(q);
+  front_rhs_.head(dp) = builder_.rhs();
 }
 
-std::vector<int> BlockFactor::solve(double threshold) {
-  std::vector<char> propagate(size(), 0);
-  std::vector<int> changed;
-  Eigen::VectorXd gathered;
-  Eigen::VectorXd r;
-  for (int position = size() - 1; position >= 0; --position) {
-    const int p = node_at_[position];
-    const Column& c = columns_[p];
-    bool needed = affected_[p] != 0;
-    for (std::size_t j = 0; !needed && j < c.rows.size(); ++j) needed = propagate[c.rows[j]] != 0;
-    if (!needed) continue;
-    const int dp = dims_[p];
-    gathered.resize(c.height - dp);
-    for (std::size_t j = 0; j < c.rows.size(); ++j) {
-      const int q = c.rows[j];
-      gathered.segment(c.row_offsets[j] - dp, dims_[q]) = ConstVectorMap(x_.data() + starts_[q], dims_[q]);
+// Adds the children's update matrices and vectors into the front's lower triangle
+// (extend-add).
+void BlockFactor::extendAddChildren(int p) {
+  for (int child : children_[p]) {
+    const Column& cc = columns_[child];
+    const int dc = dims_[child];
+    const int h = cc.height - dc;
+    const ConstMatrixMap update(cc.update.data(), h, h);
+    for (std::size_t a = 0; a < cc.rows.size(); ++a) {
+      const int qa = cc.rows[a];
+      const int da = dims_[qa];
+      const int ua = cc.row_offsets[a] - dc;
+      const int fa = front_offset_[qa];
+      front_rhs_.segment(fa, da) += ConstVectorMap(cc.vector.data() + ua, da);
+      for (std::size_t b = 0; b <= a; ++b) {
+        // The child's rows need not be in key order: each block goes to the front's lower
+        // triangle, transposed when its row comes first there.
+        const int qb = cc.rows[b];
+        const int db = dims_[qb];
+        const int fb = front_offset_[qb];
+        const auto block = update.block(ua, cc.row_offsets[b] - dc, da, db);
+        if (fa >= fb) {
+          front_.block(fa, fb, da, db) += block;
+        } else {
+          front_.block(fb, fa, db, da) += block.transpose();
+        }
+      }
     }
-    const ConstMatrixMap panel(c.panel.data(), c.height, dp);
-    r = ConstVectorMap(y_.data() + starts_[p], dp);
-    r.noalias() -= panel.bottomRows(c.height - dp).transpose() * gathered;
-    panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(r);
-    Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
-    const double change = (r - x).cwiseAbs().maxCoeff();
-    if (change > 0.0) changed.push_back(p);
-    if (change > threshold) propagate[p] = 1;
-    x = r;
   }
-  std::fill(affected_.begin(), affected_.end(), 0);
+}
+
+// Partial Cholesky of the front: L(p, p), L(rows, p), y_p, and the update matrix and vector
+// passed to the ancestors. Only the lower triangle of the front is read.
+bool BlockFactor::factorFront(int p) {
+  Column& c = columns_[p];
+  const int dp = dims_[p];
+  const int h = c.height - dp;
+  if (!front_.allFinite()) return false;
+  llt_.compute(front_.topLeftCorner(dp, dp).selfadjointView<Eigen::Lower>());
+  if (llt_.info() != Eigen::Success) return false;
+  c.panel.resize(static_cast<std::size_t>(c.height) * dp);
+  MatrixMap panel(c.panel.data(), c.height, dp);
+  panel.topRows(dp) = llt_.matrixL();
+  auto below = panel.bottomRows(h);
+  below = front_.bottomLeftCorner(h, dp);
+  llt_.matrixU().solveInPlace<Eigen::OnTheRight>(below);  // L(R, p) = F(R, p) L(p, p)^-T
+  Eigen::Map<Eigen::VectorXd> y(y_.data() + starts_[p], dp);
+  y = llt_.matrixL().solve(front_rhs_.head(dp));
+  c.update.resize(static_cast<std::size_t>(h) * h);
+  MatrixMap update(c.update.data(), h, h);
+  update = front_.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>();
+  update.noalias() -= below * below.transpose();
+  c.vector.resize(h);
+  Eigen::Map<Eigen::VectorXd>(c.vector.data(), h) = front_rhs_.tail(h) - below * y;
+  return true;
+}
+
+// From the root down, latest key first: the eliminated nodes, and the children of solved
+// nodes with a row whose solution moved by more than the threshold. (A node's rows other than
+// its parent are rows of its parent: when the parent is not solved again, neither is it.)
+std::vector<int> BlockFactor::solve(double threshold) {
+  const auto later_first = [this](int a, int b) { return before(a, b); };
+  std::priority_queue<int, std::vector<int>, decltype(later_first)> pending(later_first);
+  for (int node : affected_list_) {
+    queued_[node] = 1;
+    pending.push(node);
+  }
+  std::vector<int> visited;
+  std::vector<int> changed;
+  while (!pending.empty()) {
+    const int p = pending.top();
+    pending.pop();
+    visited.push_back(p);
+    const double change = solveNode(p);
+    if (change > 0.0) changed.push_back(p);
+    moved_[p] = change > threshold ? 1 : 0;
+    for (int child : children_[p]) {
+      if (queued_[child] != 0) continue;
+      const std::vector<int>& rows = columns_[child].rows;
+      if (std::none_of(rows.begin(), rows.end(), [this](int q) { return moved_[q] != 0; })) continue;
+      queued_[child] = 1;
+      pending.push(child);
+    }
+  }
+  for (int node : visited) queued_[node] = moved_[node] = 0;
+  for (int node : affected_list_) affected_[node] = 0;
+  affected_list_.clear();
   return changed;
+}
+
+// x_p = L(p, p)^-T (y_p - L(rows, p)^T x_rows); returns the largest change of an entry.
+double BlockFactor::solveNode(int p) {
+  const Column& c = columns_[p];
+  const int dp = dims_[p];
+  gathered_.resize(c.height - dp);
+  for (std::size_t j = 0; j < c.rows.size(); ++j) {
+    const int q = c.rows[j];
+    gathered_.segment(c.row_offsets[j] - dp, dims_[q]) = ConstVectorMap(x_.data() + starts_[q], dims_[q]);
+  }
+  const ConstMatrixMap panel(c.panel.data(), c.height, dp);
+  Eigen::VectorXd r = ConstVectorMap(y_.data() + starts_[p], dp);
+  r.noalias() -= panel.bottomRows(c.height - dp).transpose() * gathered_;
+  panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(r);
+  Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
+  const double change = (r - x).cwiseAbs().maxCoeff();
+  x = r;
+  return change;
 }
 
 Eigen::Map<const Eigen::VectorXd> BlockFactor::solution(int node) const {
@@ -320,8 +355,8 @@ Eigen::MatrixXd BlockFactor::inverseBlock(int node) const {
       }
       it->second.noalias() -= panel.middleRows(c.row_offsets[j], dims_[q]) * z;
     }
-    if (c.rows.empty()) break;
-    cur = c.rows.front();
+    if (parent_[cur] < 0) break;
+    cur = parent_[cur];
     const auto next = std::find_if(pending.begin(), pending.end(),
                                    [cur](const auto& entry) { return entry.first == cur; });
     z = std::move(next->second);

@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: MIT
 // A block Cholesky factor H = L L^T kept across changes of H (iSAM2's Bayes tree in matrix
-// form). Nodes are vertex blocks with stable ids; each has an elimination position. When H
+// form). Nodes are vertex blocks with stable ids; each has an elimination key. When H
 // changes in some nodes' columns, the affected part of the factor -- those nodes and their
 // ancestors in the elimination tree, a set closed towards the root -- is moved to the end of
 // the elimination order, ordered again (CAMD, the caller's newest nodes last) and eliminated
-// again (left-looking, with the factor's row structure kept per node). The rest of the
-// factor does not depend on the affected part and stays as it is.
+// again. The rest of the factor does not depend on the affected part and stays as it is.
+// Elimination is multifrontal: every node keeps the update matrix (Schur complement) and
+// vector its subtree passes to its ancestors, so eliminating a node again costs its
+// children's updates, not its whole subtree.
 #pragma once
 
 #include <functional>
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace graphslam::incremental {
@@ -49,7 +52,9 @@ class BlockFactor {
   /// refactor, which must name it as changed.
   int add(int dim);
   [[nodiscard]] int size() const { return static_cast<int>(dims_.size()); }
-  [[nodiscard]] int position(int node) const { return pos_[node]; }
+  /// Elimination key of a node: nodes are eliminated in increasing key (keys grow with
+  /// every reordering and are not dense).
+  [[nodiscard]] long long position(int node) const { return pos_[node]; }
   [[nodiscard]] std::size_t offDiagonalBlocks() const;
 
   struct Result {
@@ -77,32 +82,50 @@ class BlockFactor {
 
  private:
   struct Column {
-    std::vector<int> rows;         // nodes q after this one with L(q, p) != 0, by position
+    std::vector<int> rows;         // nodes q after this one with L(q, p) != 0
     std::vector<int> row_offsets;  // first panel row of each, after the d_p diagonal rows
     int height = 0;                // d_p + sum of the rows' dimensions
     std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
+    // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
+    std::vector<double> update;    // h x h, symmetric: the Schur complement onto the rows
+    std::vector<double> vector;    // h: the forward solution's contribution
   };
-  [[nodiscard]] int parent(int node) const {
-    return columns_[node].rows.empty() ? -1 : columns_[node].rows.front();
-  }
+  [[nodiscard]] int parent(int node) const { return parent_[node]; }
   std::vector<int> affectedNodes(const std::vector<int>& changed);
   std::vector<int> orderAffected(const std::vector<int>& affected, const std::vector<int>& last,
-                                 const Neighbors& neighbors) const;
+                                 const Neighbors& neighbors);
   void moveToEnd(const std::vector<int>& affected, const std::vector<int>& order);
-  void sortRows(int node);
+  [[nodiscard]] bool before(int a, int b) const { return pos_[a] < pos_[b]; }
   bool eliminate(int p, const Assemble& assemble);
-  void subtractDescendants(int p);
-  void storeColumn(int p, const Eigen::MatrixXd& pivot_factor);
+  void assembleFront(int p, const Assemble& assemble);
+  void extendAddChildren(int p);
+  bool factorFront(int p);
+  double solveNode(int p);
 
   std::vector<int> dims_;
   std::vector<int> starts_;  // scalar offset of each node in y and x
-  std::vector<int> pos_;     // node -> elimination position
-  std::vector<int> node_at_;  // position -> node
-  std::vector<Column> columns_;
-  std::vector<std::vector<int>> row_of_;  // row structure: nodes k with L(p, k) != 0
-  std::vector<double> y_, x_;
+  std::vector<long long> pos_;  // node -> elimination key
+  long long next_key_ = 0;
+  // Per-node flags and their lists (reset by list, so an update costs what it touches):
   std::vector<char> affected_;  // by the last refactor
+  std::vector<int> affected_list_;
+  std::vector<int> local_;      // orderAffected's node -> index among the affected
+  std::vector<char> queued_;    // solve's
+  std::vector<char> moved_;     // solve's: the solution changed by more than its threshold
+  std::vector<int> order_;      // the affected nodes in elimination order
+  std::vector<Column> columns_;
+  // Elimination tree: a node's parent is its row of the smallest key (-1 for a root).
+  std::vector<int> parent_;
+  std::vector<std::vector<int>> children_;
+  std::vector<double> y_, x_;
   ColumnBuilder builder_;
+  // The frontal matrix of the node being eliminated (its column and rows) and its
+  // right-hand side; front_offset_ maps a node to its first row in them.
+  Eigen::MatrixXd front_;
+  Eigen::VectorXd front_rhs_;
+  std::vector<int> front_offset_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd gathered_;  // solveNode's
 };
 
 }  // namespace graphslam::incremental

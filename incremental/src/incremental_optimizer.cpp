@@ -37,12 +37,16 @@ struct IncrementalOptimizer::Impl {
   explicit Impl(Graph& g, const Options& o) : graph(g), options(o) {}
 
   bool update();
+  bool refine(double threshold);
+  bool solve(std::vector<int> touched, const std::vector<int>& last, double threshold,
+             bool relinearize);
+  std::vector<int> relinearizeVertices(const std::vector<int>& far);
   void rebuild();
   void integrateNewEdges(std::vector<int>& touched);
   int variableFor(Vertex& v);
   void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_positions);
   void assemble(int p, ColumnBuilder& builder) const;
-  void applySteps(const std::vector<int>& nodes, std::vector<int>& relinearize);
+  void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
   void remember(int var);
   void restoreAfterFailure(int node);
 
@@ -61,6 +65,7 @@ struct IncrementalOptimizer::Impl {
   UpdateFailure failure;
   bool ready = false;  // a successful update() made the factor
   bool built = false;  // an update() ran
+  long update_count = 0;
   std::vector<std::pair<int, std::vector<double>>> undo;  // estimates before this update
   std::vector<char> remembered;  // per variable: in the undo log
   std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
@@ -69,9 +74,9 @@ struct IncrementalOptimizer::Impl {
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
     : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
   if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
-      !(options_.backsubstitution_threshold >= 0.0)) {
+      options_.relinearize_skip < 1 || !(options_.backsubstitution_threshold >= 0.0)) {
     throw Error("IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
-                "max_passes >= 1)");
+                "max_passes >= 1, relinearize_skip >= 1)");
   }
   impl_->version = graph_.structureVersion();
 }
@@ -105,6 +110,10 @@ bool IncrementalOptimizer::removeEdge(const Edge* edge) {
 }
 
 bool IncrementalOptimizer::update() { return impl_->update(); }
+bool IncrementalOptimizer::refine(double threshold) {
+  if (!(threshold >= 0.0)) throw Error("IncrementalOptimizer::refine: the threshold must be >= 0");
+  return impl_->refine(threshold);
+}
 const UpdateStats& IncrementalOptimizer::lastStats() const { return impl_->stats; }
 const UpdateFailure& IncrementalOptimizer::failure() const { return impl_->failure; }
 double IncrementalOptimizer::chi2() {
@@ -151,6 +160,31 @@ bool IncrementalOptimizer::Impl::update() {
       if (var >= 0) last.push_back(var);
     }
   }
+  const bool check = options.relinearize_skip <= 1 || update_count % options.relinearize_skip == 0;
+  ++update_count;
+  return solve(std::move(touched), last, options.relinearize_threshold, check);
+}
+
+bool IncrementalOptimizer::Impl::refine(double threshold) {
+  stats = UpdateStats{};
+  failure = UpdateFailure{};
+  if (!ready || !new_edges.empty() || graph.structureVersion() != version) {
+    throw Error("IncrementalOptimizer::refine: call update() after changing the graph first");
+  }
+  std::vector<int> far;
+  for (std::size_t var = 0; var < vars.size(); ++var) {
+    const auto x = factor.solution(static_cast<int>(var));
+    if (x.size() > 0 && x.cwiseAbs().maxCoeff() > threshold) far.push_back(static_cast<int>(var));
+  }
+  if (far.empty()) return true;
+  return solve(relinearizeVertices(far), {}, threshold, true);
+}
+
+// Relinearise-and-solve passes: the factors in `touched` are linearised, their columns and
+// ancestors eliminated again and the system solved; vertices whose step exceeds `threshold`
+// are relinearised for the next pass (when `relinearize` is set).
+bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vector<int>& last,
+                                       double threshold, bool relinearize) {
   const auto neighbors = [this](int node, std::vector<int>& out) {
     for (int id : vars[node].factors) {
       for (int var : factors[id].vars) {
@@ -160,7 +194,7 @@ bool IncrementalOptimizer::Impl::update() {
   };
   const auto assembler = [this](int node, ColumnBuilder& b) { assemble(node, b); };
   std::vector<int> nodes;
-  std::vector<int> relinearize;
+  std::vector<int> far;
   for (stats.passes = 1;; ++stats.passes) {
     nodes.clear();
     linearize(touched, nodes);
@@ -170,30 +204,35 @@ bool IncrementalOptimizer::Impl::update() {
       restoreAfterFailure(r.failed);
       return false;
     }
-    relinearize.clear();
-    applySteps(factor.solve(options.backsubstitution_threshold), relinearize);
-    if (relinearize.empty()) break;
+    far.clear();
+    applySteps(factor.solve(options.backsubstitution_threshold), threshold, far);
+    if (far.empty() || !relinearize) break;
     if (stats.passes == options.max_passes) {
       stats.pass_limit_reached = true;
       break;
     }
-    // Move the linearisation points of the vertices that went far, and take their edges.
-    touched.clear();
-    for (int var : relinearize) {
-      Variable& v = vars[var];
-      v.vertex->getEstimateData(v.theta0.data());
-      factor.zeroSolution(var);
-      touched.insert(touched.end(), v.factors.begin(), v.factors.end());
-    }
-    stats.relinearized_vertices += static_cast<int>(relinearize.size());
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    touched = relinearizeVertices(far);
   }
   for (const auto& entry : undo) remembered[entry.first] = 0;
   undo.clear();
   version = graph.structureVersion();
   ready = true;
   return true;
+}
+
+// Moves the linearisation points of `far` to their current estimates; returns their factors.
+std::vector<int> IncrementalOptimizer::Impl::relinearizeVertices(const std::vector<int>& far) {
+  std::vector<int> touched;
+  for (int var : far) {
+    Variable& v = vars[var];
+    v.vertex->getEstimateData(v.theta0.data());
+    factor.zeroSolution(var);
+    touched.insert(touched.end(), v.factors.begin(), v.factors.end());
+  }
+  stats.relinearized_vertices += static_cast<int>(far.size());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  return touched;
 }
 
 void IncrementalOptimizer::Impl::rebuild() {
@@ -309,7 +348,7 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
 // Column p of H (rows at or after p) and -g_p: the sum over the factors of p's vertex.
 void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
   const int var = p;
-  const int position = factor.position(p);
+  const long long position = factor.position(p);
   auto rhs = builder.rhs();
   for (int id : vars[var].factors) {
     const Factor& f = factors[id];
@@ -328,17 +367,17 @@ void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
   }
 }
 
-// Sets the vertices of the given positions to theta0 + x and lists those whose step x
-// exceeds the relinearisation threshold.
-void IncrementalOptimizer::Impl::applySteps(const std::vector<int>& nodes,
-                                            std::vector<int>& relinearize) {
+// Sets the vertices of the given nodes to theta0 + x and lists those whose step x exceeds
+// `threshold`.
+void IncrementalOptimizer::Impl::applySteps(const std::vector<int>& nodes, double threshold,
+                                            std::vector<int>& far) {
   for (int var : nodes) {
     Variable& v = vars[var];
     remember(var);
     const auto x = factor.solution(var);
     v.vertex->setEstimateData(v.theta0.data());
     v.vertex->oplus(x.data());
-    if (x.cwiseAbs().maxCoeff() > options.relinearize_threshold) relinearize.push_back(var);
+    if (x.cwiseAbs().maxCoeff() > threshold) far.push_back(var);
   }
 }
 

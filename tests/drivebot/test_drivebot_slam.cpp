@@ -234,6 +234,7 @@ TEST(DriveBot_Slam, CompassBugReproducedAndFixed) {
   const RunResult bug = simulate("q1_c", sim, slam);
   slam.compass_wrap_error = true;
   const RunResult fix = simulate("q1_c", sim, slam);
+  ASSERT_FALSE(bug.failed) << bug.failure.message;
   ASSERT_FALSE(fix.failed);
   EXPECT_LT(rmsError(fix)[2], 1.0 * kPi / 180);
   EXPECT_GT(rmsError(bug)[2], 20.0 * kPi / 180);

@@ -15,6 +15,7 @@
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
+#include "graphslam/incremental/incremental_optimizer.h"
 #include "graphslam/drivebot/events.h"
 
 namespace graphslam::types_drivebot {
@@ -87,6 +88,15 @@ struct SlamSystemOptions {
   /// Optimiser settings (algorithm, linear solver, tolerances); max_iterations is set per
   /// call.
   Optimizer::Options optimizer;
+  /// optimize() updates an incremental::IncrementalOptimizer kept for the system's lifetime:
+  /// only the part of the factor that the new edges change is eliminated again, so an
+  /// optimisation after every step stays cheap as the map grows. The batch optimizer runs
+  /// instead when this is false, always in the modes that remove edges at every
+  /// optimisation (remove_prediction_edges, PruneRule::kCoursework), with the coursework's
+  /// unwrapped compass error (compass_wrap_error false: undamped steps diverge on it), and
+  /// for optimizeBatch().
+  bool incremental = true;
+  incremental::Options incremental_options;
 };
 
 /// Estimate and marginal covariance of one landmark.
@@ -157,7 +167,17 @@ class DriveBotSlamSystem {
   /// diagnosis naming them in DriveBot terms (constraints() has the details). Vertices
   /// without any edge (possible once prediction edges are removed) are left out: they keep
   /// their predicted estimates and have no covariance (NaN in vehicleHistory()).
+  /// With SlamSystemOptions::incremental (and no edge removal) one IncrementalOptimizer
+  /// update: max_iterations is not used, the summary's chi2 are NaN (chi2() has them) and
+  /// its iterations are the update's relinearisation passes; an update that fails (a
+  /// factor not positive definite) falls back to optimizeBatch().
   Summary optimize(int max_iterations = 0);
+  /// Batch optimisation from the current estimates (the run's final optimisation).
+  Summary optimizeBatch(int max_iterations = 0);
+  /// Objective at the current estimates.
+  [[nodiscard]] double chi2() { return graph_.chi2(); }
+  /// Whether optimize() runs the incremental optimizer.
+  [[nodiscard]] bool usesIncremental() const;
   /// The constraint check of the last optimize().
   [[nodiscard]] const ConstraintReport& constraints() const { return constraints_; }
 
@@ -206,10 +226,14 @@ class DriveBotSlamSystem {
   /// PruneRule::kCoursework: thins every landmark's observation edges in the graph.
   void pruneObservationEdges();
   std::string diagnose(const ConstraintReport& report) const;
+  /// Through the incremental optimizer when it is used, so that it sees the change.
+  Vertex& addVertex(std::unique_ptr<Vertex> vertex);
+  Edge& addEdge(std::unique_ptr<Edge> edge);
 
   SlamSystemOptions options_;
   Graph graph_;
   std::unique_ptr<Optimizer> optimizer_;
+  std::unique_ptr<incremental::IncrementalOptimizer> incremental_;
   MarginalCovariance marginals_;
   ConstraintReport constraints_;
 
