@@ -266,10 +266,11 @@ bool BlockFactor::factorFront(int p) {
   llt_.matrixU().solveInPlace<Eigen::OnTheRight>(below);  // L(R, p) = F(R, p) L(p, p)^-T
   Eigen::Map<Eigen::VectorXd> y(y_.data() + starts_[p], dp);
   y = llt_.matrixL().solve(front_rhs_.head(dp));
+  // Only the lower triangle of the update matrix is ever read (extendAddChildren).
   c.update.resize(static_cast<std::size_t>(h) * h);
   MatrixMap update(c.update.data(), h, h);
-  update = front_.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>();
-  update.noalias() -= below * below.transpose();
+  update.triangularView<Eigen::Lower>() = front_.bottomRightCorner(h, h);
+  update.selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
   c.vector.resize(h);
   Eigen::Map<Eigen::VectorXd>(c.vector.data(), h) = front_rhs_.tail(h) - below * y;
   return true;

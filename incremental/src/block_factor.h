@@ -87,7 +87,7 @@ class BlockFactor {
     int height = 0;                // d_p + sum of the rows' dimensions
     std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
-    std::vector<double> update;    // h x h, symmetric: the Schur complement onto the rows
+    std::vector<double> update;    // h x h, lower triangle: the Schur complement onto the rows
     std::vector<double> vector;    // h: the forward solution's contribution
   };
   [[nodiscard]] int parent(int node) const { return parent_[node]; }

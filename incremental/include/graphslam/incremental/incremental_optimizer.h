@@ -17,12 +17,13 @@ namespace graphslam::incremental {
 struct Options {
   /// A vertex is relinearised (its linearisation point moved to its current estimate and
   /// its edges linearised again) when an entry of its step from the linearisation point
-  /// exceeds this (in the tangent units of its type: metres and radians for poses).
-  /// iSAM2's default is 0.1; a smaller value ends closer to the optimum of the nonlinear
-  /// problem at every update, for more relinearised edges (replays of intel and m3500:
-  /// chi2 within 5e-7 and 8e-7 of the batch optimum at 1e-2, 3e-9 and 5e-9 at 1e-3 for
-  /// 1.6-1.8 times the time; refine() closes the rest when it matters).
-  double relinearize_threshold = 1e-2;
+  /// exceeds this (in the tangent units of its type: metres and radians for poses). The
+  /// default is iSAM2's. A smaller value ends closer to the optimum of the nonlinear problem
+  /// at every update, for more relinearised edges: replaying m3500, chi2 ends 6e-4 above the
+  /// batch optimum at 0.1, 1.3e-5 at 0.03 and 8e-7 at 0.01, for 1.5 and 1.7 times the time
+  /// (docs/BENCHMARKS.md, "Incremental optimisation"); refine() closes the rest when it
+  /// matters.
+  double relinearize_threshold = 0.1;
   /// Relinearise-and-solve passes per update(): after a pass, vertices whose step exceeds
   /// relinearize_threshold are relinearised and the system solved again, up to this many
   /// times (the update's stats say when the limit was reached).
