@@ -16,6 +16,12 @@ using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
 
+// A chain goes on in the same front only while the front has at least this many rows: a
+// large front saves its copies into and out of an update matrix, a small one is cheaper to
+// eliminate again alone (a chain is eliminated again whole; near the root, where every
+// update starts, fronts are small).
+constexpr int kMinChainFront = 48;
+
 void ColumnBuilder::begin(int p, const std::vector<int>& dims) {
   for (int q : rows_) slot_of_[q] = -1;
   if (slot_of_.size() < dims.size()) slot_of_.resize(dims.size(), -1);
@@ -57,6 +63,8 @@ void BlockFactor::clear() {
   columns_.clear();
   parent_.clear();
   children_.clear();
+  chain_child_.clear();
+  in_front_.clear();
   moved_.clear();
   front_offset_.clear();
   y_.clear();
@@ -75,6 +83,8 @@ int BlockFactor::add(int dim) {
   columns_.emplace_back();
   parent_.push_back(-1);
   children_.emplace_back();
+  chain_child_.push_back(-1);
+  in_front_.push_back(0);
   moved_.push_back(0);
   front_offset_.push_back(0);
   y_.resize(starts_.back(), 0.0);
@@ -96,12 +106,29 @@ BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
   order_ = orderAffected(affected, last, neighbors);
   moveToEnd(affected, order_);
   Result result;
-  for (int node : order_) {
-    if (!eliminate(node, assemble)) {
-      result.failed = node;
-      return result;
+  for (std::size_t i = 0; i < order_.size();) {
+    int p = order_[i];
+    assembleFront(p, assemble);
+    extendAddChildren(p);
+    // A chain (the next node is p's parent, p its only child, and the parent's edges stay
+    // within the front) goes on in the same front: no update matrix between them.
+    for (;;) {
+      if (!factorPivot(p)) {
+        result.failed = p;
+        return result;
+      }
+      ++result.eliminated;
+      ++i;
+      const int q = parent_[p];
+      if (i < order_.size() && order_[i] == q && children_[q].size() == 1 &&
+          columns_[p].height >= kMinChainFront && continueFront(q, assemble)) {
+        chain_child_[q] = p;
+        p = q;
+        continue;
+      }
+      keepUpdate(p);
+      break;
     }
-    ++result.eliminated;
   }
   return result;
 }
@@ -114,6 +141,11 @@ std::vector<int> BlockFactor::affectedNodes(const std::vector<int>& changed) {
     for (int k = node; k >= 0 && affected_[k] == 0; k = parent(k)) {
       affected_[k] = 1;
       affected.push_back(k);
+      // The nodes below k in its chain kept no update matrix: they go with it.
+      for (int d = chain_child_[k]; d >= 0 && affected_[d] == 0; d = chain_child_[d]) {
+        affected_[d] = 1;
+        affected.push_back(d);
+      }
     }
   }
   affected_list_ = affected;
@@ -168,6 +200,7 @@ void BlockFactor::moveToEnd(const std::vector<int>& affected, const std::vector<
       if (affected_[k] == 0) orphans.push_back(k);
     }
     children_[q].clear();
+    chain_child_[q] = -1;
     columns_[q].rows.clear();
     columns_[q].height = 0;
   }
@@ -179,18 +212,8 @@ void BlockFactor::moveToEnd(const std::vector<int>& affected, const std::vector<
   }
 }
 
-bool BlockFactor::eliminate(int p, const Assemble& assemble) {
-  assembleFront(p, assemble);
-  extendAddChildren(p);
-  if (!factorFront(p)) return false;
-  const Column& c = columns_[p];
-  parent_[p] = c.rows.empty() ? -1 : c.rows.front();
-  if (parent_[p] >= 0) children_[parent_[p]].push_back(p);
-  return true;
-}
-
-// The front of p: its rows (H's neighbours after p and its children's rows), column p of H
-// and the right-hand side of p.
+// The front of p: its rows (H's neighbours after p and its children's rows, in key order),
+// column p of H and the right-hand side of p.
 void BlockFactor::assembleFront(int p, const Assemble& assemble) {
   builder_.begin(p, dims_);
   assemble(p, builder_);
@@ -199,23 +222,36 @@ void BlockFactor::assembleFront(int p, const Assemble& assemble) {
       if (q != p) (void)builder_.block(q);
     }
   }
-  Column& c = columns_[p];
-  const int dp = dims_[p];
-  c.rows.assign(builder_.rows_.begin() + 1, builder_.rows_.end());
-  std::sort(c.rows.begin(), c.rows.end(), [this](int a, int b) { return before(a, b); });
-  c.row_offsets.clear();
-  c.height = dp;
-  front_offset_[p] = 0;
-  for (int q : c.rows) {
-    c.row_offsets.push_back(c.height);
-    front_offset_[q] = c.height;
-    c.height += dims_[q];
+  front_rows_.assign(builder_.rows_.begin(), builder_.rows_.end());
+  std::sort(front_rows_.begin() + 1, front_rows_.end(),
+            [this](int a, int b) { return before(a, b); });
+  int height = 0;
+  for (int q : front_rows_) {
+    front_offset_[q] = height;
+    in_front_[q] = 1;
+    height += dims_[q];
   }
-  front_.setZero(c.height, c.height);
-  front_rhs_.setZero(c.height);
-  front_.block(0, 0, dp, dp) = builder_.block(p);
-  for (int q : c.rows) front_.block(front_offset_[q], 0, dims_[q], dp) = builder_.block(q);
+  const int dp = dims_[p];
+  front_.setZero(height, height);
+  front_rhs_.setZero(height);
+  for (int q : front_rows_) front_.block(front_offset_[q], 0, dims_[q], dp) = builder_.block(q);
   front_rhs_.head(dp) = builder_.rhs();
+}
+
+// Adds column q of H into the current front when all its rows are there (q continues a
+// chain); returns false, changing nothing, otherwise.
+bool BlockFactor::continueFront(int q, const Assemble& assemble) {
+  builder_.begin(q, dims_);
+  assemble(q, builder_);
+  for (int r : builder_.rows_) {
+    if (in_front_[r] == 0) return false;
+  }
+  const int fq = front_offset_[q];
+  for (int r : builder_.rows_) {
+    front_.block(front_offset_[r], fq, dims_[r], dims_[q]) += builder_.block(r);
+  }
+  front_rhs_.segment(fq, dims_[q]) += builder_.rhs();
+  return true;
 }
 
 // Adds the children's update matrices and vectors into the front's lower triangle
@@ -249,31 +285,52 @@ void BlockFactor::extendAddChildren(int p) {
   }
 }
 
-// Partial Cholesky of the front: L(p, p), L(rows, p), y_p, and the update matrix and vector
-// passed to the ancestors. Only the lower triangle of the front is read.
-bool BlockFactor::factorFront(int p) {
-  Column& c = columns_[p];
+// Eliminates p, the first node left in the front: L(p, p), L(rows, p) and y_p, and the
+// Schur complement of the rows after it, in place. Only the lower triangle is read.
+bool BlockFactor::factorPivot(int p) {
   const int dp = dims_[p];
-  const int h = c.height - dp;
-  if (!front_.allFinite()) return false;
-  llt_.compute(front_.topLeftCorner(dp, dp).selfadjointView<Eigen::Lower>());
+  const int top = front_offset_[p];
+  const int h = static_cast<int>(front_.rows()) - top - dp;
+  auto pivot = front_.block(top, top, dp, dp);
+  if (!pivot.allFinite() || !front_.block(top + dp, top, h, dp).allFinite()) return false;
+  llt_.compute(pivot.selfadjointView<Eigen::Lower>());
   if (llt_.info() != Eigen::Success) return false;
+  Column& c = columns_[p];
+  c.rows.clear();
+  c.row_offsets.clear();
+  for (auto it = std::find(front_rows_.begin(), front_rows_.end(), p) + 1; it != front_rows_.end(); ++it) {
+    c.rows.push_back(*it);
+    c.row_offsets.push_back(front_offset_[*it] - top);
+  }
+  c.height = dp + h;
+  c.update.clear();
+  c.vector.clear();
   c.panel.resize(static_cast<std::size_t>(c.height) * dp);
   MatrixMap panel(c.panel.data(), c.height, dp);
   panel.topRows(dp) = llt_.matrixL();
   auto below = panel.bottomRows(h);
-  below = front_.bottomLeftCorner(h, dp);
+  below = front_.block(top + dp, top, h, dp);
   llt_.matrixU().solveInPlace<Eigen::OnTheRight>(below);  // L(R, p) = F(R, p) L(p, p)^-T
   Eigen::Map<Eigen::VectorXd> y(y_.data() + starts_[p], dp);
-  y = llt_.matrixL().solve(front_rhs_.head(dp));
-  // Only the lower triangle of the update matrix is ever read (extendAddChildren).
+  y = llt_.matrixL().solve(front_rhs_.segment(top, dp));
+  front_.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
+  front_rhs_.tail(h).noalias() -= below * y;
+  parent_[p] = c.rows.empty() ? -1 : c.rows.front();
+  if (parent_[p] >= 0) children_[parent_[p]].push_back(p);
+  return true;
+}
+
+// The end of a chain: what is left of the front is p's update matrix and vector, kept for
+// p's ancestors (only the lower triangle of the update matrix is ever read).
+void BlockFactor::keepUpdate(int p) {
+  Column& c = columns_[p];
+  const int h = c.height - dims_[p];
   c.update.resize(static_cast<std::size_t>(h) * h);
   MatrixMap update(c.update.data(), h, h);
   update.triangularView<Eigen::Lower>() = front_.bottomRightCorner(h, h);
-  update.selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
   c.vector.resize(h);
-  Eigen::Map<Eigen::VectorXd>(c.vector.data(), h) = front_rhs_.tail(h) - below * y;
-  return true;
+  Eigen::Map<Eigen::VectorXd>(c.vector.data(), h) = front_rhs_.tail(h);
+  for (int q : front_rows_) in_front_[q] = 0;
 }
 
 // From the root down, latest key first: the eliminated nodes, and the children of solved

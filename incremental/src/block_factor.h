@@ -87,6 +87,7 @@ class BlockFactor {
     int height = 0;                // d_p + sum of the rows' dimensions
     std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
+    // (empty for a node whose elimination went on into its parent's, chain_child_):
     std::vector<double> update;    // h x h, lower triangle: the Schur complement onto the rows
     std::vector<double> vector;    // h: the forward solution's contribution
   };
@@ -96,10 +97,11 @@ class BlockFactor {
                                  const Neighbors& neighbors);
   void moveToEnd(const std::vector<int>& affected, const std::vector<int>& order);
   [[nodiscard]] bool before(int a, int b) const { return pos_[a] < pos_[b]; }
-  bool eliminate(int p, const Assemble& assemble);
   void assembleFront(int p, const Assemble& assemble);
   void extendAddChildren(int p);
-  bool factorFront(int p);
+  bool continueFront(int q, const Assemble& assemble);
+  bool factorPivot(int p);
+  void keepUpdate(int p);
   double solveNode(int p);
 
   std::vector<int> dims_;
@@ -117,13 +119,18 @@ class BlockFactor {
   // Elimination tree: a node's parent is its row of the smallest key (-1 for a root).
   std::vector<int> parent_;
   std::vector<std::vector<int>> children_;
+  // The child a node's elimination continued from in the same front (-1: none); that child
+  // kept no update matrix, so it is eliminated again whenever the node is.
+  std::vector<int> chain_child_;
   std::vector<double> y_, x_;
   ColumnBuilder builder_;
   // The frontal matrix of the node being eliminated (its column and rows) and its
   // right-hand side; front_offset_ maps a node to its first row in them.
   Eigen::MatrixXd front_;
   Eigen::VectorXd front_rhs_;
+  std::vector<int> front_rows_;    // nodes of the front, in key order
   std::vector<int> front_offset_;
+  std::vector<char> in_front_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd gathered_;  // solveNode's
 };
