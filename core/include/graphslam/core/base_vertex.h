@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <type_traits>
 
 #include "graphslam/core/data_traits.h"
 #include "graphslam/core/vertex.h"
@@ -46,8 +47,19 @@ class BaseVertex : public Vertex {
   }
 
  private:
-  EstimateType estimate_{};
-  EstimateType backup_{};
+  /// The estimate of a new vertex: zero for Eigen vectors (whose default constructor leaves
+  /// the coefficients uninitialised), the default-constructed value otherwise (the identity
+  /// of a pose type).
+  static EstimateType initialEstimate() {
+    if constexpr (std::is_base_of_v<Eigen::DenseBase<EstimateType>, EstimateType>) {
+      return EstimateType::Zero();
+    } else {
+      return EstimateType{};
+    }
+  }
+
+  EstimateType estimate_ = initialEstimate();
+  EstimateType backup_ = initialEstimate();
 };
 
 }  // namespace graphslam
