@@ -127,5 +127,8 @@ int cmdDrivebot(const std::vector<std::string>& args);
 int cmdSolvers(const std::vector<std::string>& args);
 int cmdAddOutliers(const std::vector<std::string>& args);
 int cmdSimulate(const std::vector<std::string>& args);
+int cmdListTypes(const std::vector<std::string>& args);
+int cmdListSolvers(const std::vector<std::string>& args);
+int cmdIncremental(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

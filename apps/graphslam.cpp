@@ -25,7 +25,6 @@
 #include "graphslam/homework/point_ground_truth.h"
 #include "graphslam/init/initialization.h"
 #include "graphslam/simulation/simulator.h"
-#include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
@@ -460,67 +459,6 @@ int cmdOptimize(const std::vector<std::string>& args) {
       writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
 }
 
-// ---------------------------------------------------------------------------------------
-// list-types, list-solvers
-
-std::string parameterNote(int n) {
-  return n > 0 ? "  parameters " + std::to_string(n) : std::string();
-}
-
-int cmdListTypes(const std::vector<std::string>& args) {
-  Registries reg;
-  if (!parseListing(
-          args,
-          "usage: graphslam list-types [--plugin LIB]...\nLists the .g2o tags this build knows.",
-          reg)) {
-    return kExitOk;
-  }
-  for (const auto* e : reg.types.entries()) {
-    if (e->kind == TypeRegistry::Kind::kVertex) {
-      auto v = e->make_vertex();
-      std::printf("%-28s vertex  dim %d  values %d%s  (%s)\n", e->tag.c_str(), v->dimension(),
-                  v->estimateDataDimension(), parameterNote(v->parameterDataDimension()).c_str(),
-                  e->origin.c_str());
-    } else if (e->kind == TypeRegistry::Kind::kParameter) {
-      auto p = e->make_parameter();
-      std::printf("%-28s param   values %d  (%s)\n", e->tag.c_str(), p->dataDimension(),
-                  e->origin.c_str());
-    } else {
-      auto ed = e->make_edge();
-      const std::string refers =
-          ed->numParameters() > 0 ? "  parameter ids " + std::to_string(ed->numParameters()) : "";
-      std::printf("%-28s edge    dim %d  vertices %s%s  measurement %d%s  (%s)\n", e->tag.c_str(),
-                  ed->dimension(), ed->arity() > 0 ? std::to_string(ed->arity()).c_str() : "any",
-                  refers.c_str(), ed->measurementDataDimension(),
-                  parameterNote(ed->parameterDataDimension()).c_str(), e->origin.c_str());
-    }
-  }
-  return kExitOk;
-}
-
-int cmdListSolvers(const std::vector<std::string>& args) {
-  Registries reg;
-  if (!parseListing(args,
-                    "usage: graphslam list-solvers [--plugin LIB]...\nLists the linear solvers "
-                    "this build knows: name, system form (H: normal equations, J: whitened "
-                    "Jacobian), orderings (the first is the default; pick one with "
-                    "--solver NAME:ORDERING), description.",
-                    reg)) {
-    return kExitOk;
-  }
-  for (const auto* e : reg.solvers.entries()) {
-    std::string orderings;
-    for (Ordering o : e->orderings)
-      orderings += (orderings.empty() ? "" : ",") + std::string(toString(o));
-    std::printf("%-20s %-2s %-26s %s  (%s)\n", e->name.c_str(),
-                e->form == SystemForm::kJacobian ? "J" : "H", orderings.c_str(),
-                e->description.c_str(), e->origin.c_str());
-  }
-  std::printf("block-llt kernels: %s (GRAPHSLAM_SIMD=portable selects the portable ones)\n",
-              solvers::blockKernelPath());
-  return kExitOk;
-}
-
 constexpr const char* kMainUsage =
     "usage: graphslam COMMAND [options]   (graphslam COMMAND --help for each)\n"
     "\n"
@@ -534,6 +472,7 @@ constexpr const char* kMainUsage =
     "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
     "  add-outliers   append seeded random wrong loop closures to a 2D pose graph\n"
+    "  incremental    replay a graph pose by pose through the incremental optimizer, timed\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n"
     "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
@@ -577,6 +516,7 @@ int main(int argc, char** argv) {
     if (command == "drivebot") return cmdDrivebot(args);
     if (command == "solvers") return cmdSolvers(args);
     if (command == "add-outliers") return cmdAddOutliers(args);
+    if (command == "incremental") return cmdIncremental(args);
     std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {

@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: MIT
+// graphslam incremental: replays a graph pose by pose through the IncrementalOptimizer
+// (incremental/replay.h) and compares the end with the batch optimum.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "graphslam/core/internal/file_util.h"
+#include "graphslam/core/io_g2o.h"
+#include "graphslam/incremental/replay.h"
+#include "input.h"
+#include "output_set.h"
+#include "plotting.h"
+
+namespace graphslam::apps {
+
+namespace {
+
+constexpr const char* kIncrementalUsage =
+    "usage: graphslam incremental IN.g2o [-o OUT.g2o] [--stats FILE.csv] [--plot FILE.png]\n"
+    "                             [--relinearize-threshold X] [--check-every N] [--plugin LIB]...\n"
+    "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
+    "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
+    "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
+    "placed by it), then one update per step, timed. Prints the steps, the total update time,\n"
+    "the per-step p50 / p90 / p99 / max, the final chi2, and the batch optimum (optimize's\n"
+    "defaults on the whole file, for scale) with its time and the relative difference.\n"
+    "-o writes the replayed graph; --stats one CSV line per step; --plot the per-step time and\n"
+    "chi2 against the step (chi2 is then computed after every step, outside the timed part).";
+
+/// The options of graphslam incremental.
+struct IncrementalCliOptions {
+  std::string input, output, stats, plot;
+  std::vector<std::string> plugins;
+  int check_every = 0;
+  incremental::ReplayOptions replay;
+};
+
+/// Parses and checks the options; false after --help.
+bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCliOptions& o) {
+  incremental::Options& opt = o.replay.optimizer;
+  po::options_description desc("options");
+  desc.add_options()("help,h", "show this help")("input", po::value(&o.input), "input .g2o file")(
+      "output,o", po::value(&o.output), "write the replayed graph here (atomically)")(
+      "stats", po::value(&o.stats),
+      "write one CSV line per step: step, pose id, new edges and landmarks, update time, "
+      "passes, relinearised vertices, eliminated columns, reordered, chi2 (and the checks')")(
+      "plot", po::value(&o.plot), "draw the per-step time (log scale) and chi2 into this PNG")(
+      "relinearize-threshold",
+      po::value(&opt.relinearize_threshold)->default_value(opt.relinearize_threshold),
+      "relinearise a vertex when an entry of its step from its linearisation point exceeds "
+      "this (metres, radians)")(
+      "check-every", po::value(&o.check_every)->default_value(0),
+      "every N steps, compare the estimates with a batch solve of the same graph (outside the "
+      "timed part; 0: never)")("plugin", po::value(&o.plugins)->composing(),
+                               "load types from this shared library (repeatable)");
+  po::positional_options_description pos;
+  pos.add("input", 1);
+  const auto vm = parse(args, desc, &pos);
+  if (vm.count("help")) {
+    printHelp(kIncrementalUsage, desc);
+    return false;
+  }
+  if (o.input.empty()) throw UsageError("incremental needs an input file IN.g2o");
+  if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
+    throw UsageError("--relinearize-threshold must be a finite number >= 0");
+  }
+  if (o.check_every < 0) throw UsageError("--check-every must be at least 0 (0: never)");
+  o.replay.record_chi2 = !o.stats.empty() || !o.plot.empty();
+  return true;
+}
+
+/// What --check-every found at one step.
+struct StepCheck {
+  std::size_t step = 0;
+  incremental::BatchComparison comparison;
+};
+
+/// The p-th percentile (nearest rank) of `values`, sorted.
+double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0.0;
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(sorted.size()));
+  const std::size_t k = static_cast<std::size_t>(std::max(rank, 1.0)) - 1;
+  return sorted[std::min(k, sorted.size() - 1)];
+}
+
+void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
+  std::printf("replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g\n",
+              r.steps.size(), r.pose_tag.c_str(), r.num_landmarks,
+              o.replay.optimizer.relinearize_threshold);
+  if (r.initialised_from_file > 0 || r.gaps > 0) {
+    std::printf(
+        "  file's estimate kept: %d vertices their first edge does not determine, %d poses "
+        "without odometry to the previous one\n",
+        r.initialised_from_file, r.gaps);
+  }
+  std::vector<double> ms;
+  for (const auto& s : r.steps) ms.push_back(1e3 * s.seconds);
+  std::sort(ms.begin(), ms.end());
+  std::printf(
+      "update time: %.4f s in all; per step p50 %.3f ms  p90 %.3f ms  p99 %.3f ms  max %.3f ms\n",
+      r.total_seconds, percentile(ms, 50), percentile(ms, 90), percentile(ms, 99),
+      ms.empty() ? 0.0 : ms.back());
+  std::printf("final chi2: %.10g (incremental)\n", r.final_chi2);
+}
+
+void printChecks(const std::vector<StepCheck>& checks, int every) {
+  if (checks.empty()) return;
+  const StepCheck* gap = nullptr;
+  const StepCheck* diff = nullptr;
+  const StepCheck* failed = nullptr;
+  std::size_t num_failed = 0;
+  for (const auto& c : checks) {
+    if (!c.comparison.ok()) {
+      if (!failed) failed = &c;
+      ++num_failed;
+      continue;
+    }
+    if (!gap || c.comparison.relative_gap > gap->comparison.relative_gap) gap = &c;
+    if (!diff || c.comparison.max_difference > diff->comparison.max_difference) diff = &c;
+  }
+  std::printf("checks against a batch solve of the same graph (every %d steps, %zu checks):\n",
+              every, checks.size());
+  if (gap) {
+    std::printf(
+        "  largest relative chi2 gap %.3g (step %zu); largest estimate difference %.3g "
+        "(vertex %d at step %zu)\n",
+        gap->comparison.relative_gap, gap->step, diff->comparison.max_difference,
+        diff->comparison.worst_vertex, diff->step);
+  }
+  if (failed) {
+    std::printf("  %zu batch solves failed, the first at step %zu: %s\n", num_failed, failed->step,
+                failed->comparison.summary.message.c_str());
+  }
+}
+
+/// The batch optimum of the whole file, as `optimize` reaches it with its defaults.
+Summary runBatch(LoadedInput& in, const Registries& reg) {
+  std::printf("batch, for scale (optimize's defaults on the whole file):\n");
+  applyInitialGuess(in, in.graph, "auto", reg.solvers);
+  Optimizer optimizer(in.graph, reg.solvers);
+  return optimizer.optimize();
+}
+
+std::string csvNumber(double value) { return std::isfinite(value) ? formatDouble(value) : ""; }
+
+void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
+                   const std::vector<StepCheck>& checks) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "step,pose,new_edges,new_landmarks,seconds,passes,relinearized_vertices,"
+           "eliminated_columns,reordered,chi2,batch_chi2,estimate_difference\n";
+    auto check = checks.begin();
+    for (std::size_t k = 0; k < r.steps.size(); ++k) {
+      const incremental::ReplayStep& s = r.steps[k];
+      out << k << ',' << s.pose << ',' << s.new_edges << ',' << s.new_landmarks << ','
+          << formatDouble(s.seconds) << ',' << s.stats.passes << ','
+          << s.stats.relinearized_vertices << ',' << s.stats.eliminated_columns << ','
+          << (s.stats.reordered ? 1 : 0) << ',' << csvNumber(s.chi2) << ',';
+      while (check != checks.end() && check->step < k) ++check;
+      if (check != checks.end() && check->step == k && check->comparison.ok()) {
+        out << csvNumber(check->comparison.batch_chi2) << ','
+            << csvNumber(check->comparison.max_difference);
+      } else {
+        out << ',';
+      }
+      out << '\n';
+    }
+  });
+}
+
+void plotSteps(const std::string& png, const std::string& shown, const IncrementalCliOptions& o,
+               const incremental::ReplayResult& r, const std::vector<StepCheck>& checks,
+               const Summary& batch) {
+  const std::string data = png + ".steps.csv";
+  const TemporaryFile remove_data{data};
+  writeStepsCsv(data, r, checks);
+  char figures[160];
+  std::snprintf(figures, sizeof figures,
+                ": incremental replay, %zu steps, %.4g s of updates; final chi2 %.10g (batch "
+                "optimum %.10g)",
+                r.steps.size(), r.total_seconds, r.final_chi2, batch.final_cost);
+  const std::string title = std::filesystem::path(o.input).filename().string() + figures;
+  runPlotScript("plot_incremental.py", {data, png, title});
+  std::printf("wrote %s\n", shown.c_str());
+}
+
+}  // namespace
+
+int cmdIncremental(const std::vector<std::string>& args) {
+  IncrementalCliOptions o;
+  if (!parseIncrementalOptions(args, o)) return kExitOk;
+  Registries reg;
+  loadRegistries(reg, o.plugins);
+  OutputSet outputs({o.output, o.stats, o.plot}, {o.input});
+  if (!o.plot.empty() && findPlotPython().empty()) {
+    throw UsageError(
+        "--plot needs Python 3 with matplotlib, and none was found (tried "
+        "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
+  }
+  LoadedInput in = loadInput(o.input, reg.types);
+  std::printf("%s: %s, %zu vertices, %zu edges\n", o.input.c_str(), in.description.c_str(),
+              in.graph.numVertices(), in.graph.numEdges());
+  for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
+  std::vector<StepCheck> checks;
+  if (o.check_every > 0) {
+    o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
+      if ((step + 1) % static_cast<std::size_t>(o.check_every) != 0) return;
+      checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
+    };
+  }
+  Graph replayed;
+  const incremental::ReplayResult r =
+      incremental::replayGraph(in.graph, reg.types, replayed, o.replay);
+  if (!r.ok) {
+    std::cerr << "graphslam incremental: the replay failed at " << r.error
+              << "\nno output written\n";
+    outputs.abort();
+    return kExitFailed;
+  }
+  printReplay(r, o);
+  printChecks(checks, o.check_every);
+  const Summary batch = runBatch(in, reg);
+  if (!batch.succeeded() && batch.status != TerminationStatus::kNoProgress) {
+    std::cerr << "graphslam incremental: the batch optimizer failed: " << toString(batch.status)
+              << ": " << batch.message << "\nno output written\n";
+    outputs.abort();
+    return kExitFailed;
+  }
+  const double gap =
+      batch.final_cost != 0.0 ? (r.final_chi2 - batch.final_cost) / batch.final_cost : r.final_chi2;
+  std::printf("batch optimum: chi2 %.10g in %.4f s (%s, %d iterations)\n", batch.final_cost,
+              batch.total_time, toString(batch.status), batch.iterations);
+  std::printf("relative difference: %.3g (final chi2 - batch optimum) / batch optimum\n", gap);
+  return outputs.writeAll([&] {
+    if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks);
+    if (!o.output.empty()) {
+      io::saveG2o(outputs.staged(o.output), replayed, reg.types);
+      std::printf("wrote %s\n", o.output.c_str());
+    }
+    if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
+    outputs.commit();
+    return kExitOk;
+  });
+}
+
+}  // namespace graphslam::apps
