@@ -49,7 +49,8 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "output,o", po::value(&o.output), "write the replayed graph here (atomically)")(
       "stats", po::value(&o.stats),
       "write one CSV line per step: step, pose id, new edges and landmarks, update time, "
-      "passes, relinearised vertices, eliminated columns, reordered, chi2 (and the checks')")(
+      "passes (and whether their limit was reached), relinearised vertices and edges, "
+      "eliminated columns, full rebuild, chi2 (and the checks')")(
       "plot", po::value(&o.plot), "draw the per-step time (log scale) and chi2 into this PNG")(
       "relinearize-threshold",
       po::value(&opt.relinearize_threshold)->default_value(opt.relinearize_threshold),
@@ -152,15 +153,17 @@ std::string csvNumber(double value) { return std::isfinite(value) ? formatDouble
 void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
                    const std::vector<StepCheck>& checks) {
   writeFileAtomically(path, [&](std::ostream& out) {
-    out << "step,pose,new_edges,new_landmarks,seconds,passes,relinearized_vertices,"
-           "eliminated_columns,reordered,chi2,batch_chi2,estimate_difference\n";
+    out << "step,pose,new_edges,new_landmarks,seconds,passes,pass_limit_reached,"
+           "relinearized_vertices,relinearized_edges,eliminated_columns,rebuilt,chi2,batch_chi2,"
+           "estimate_difference\n";
     auto check = checks.begin();
     for (std::size_t k = 0; k < r.steps.size(); ++k) {
       const incremental::ReplayStep& s = r.steps[k];
+      const incremental::UpdateStats& u = s.stats;
       out << k << ',' << s.pose << ',' << s.new_edges << ',' << s.new_landmarks << ','
-          << formatDouble(s.seconds) << ',' << s.stats.passes << ','
-          << s.stats.relinearized_vertices << ',' << s.stats.eliminated_columns << ','
-          << (s.stats.reordered ? 1 : 0) << ',' << csvNumber(s.chi2) << ',';
+          << formatDouble(s.seconds) << ',' << u.passes << ',' << (u.pass_limit_reached ? 1 : 0)
+          << ',' << u.relinearized_vertices << ',' << u.relinearized_edges << ','
+          << u.eliminated_columns << ',' << (u.rebuilt ? 1 : 0) << ',' << csvNumber(s.chi2) << ',';
       while (check != checks.end() && check->step < k) ++check;
       if (check != checks.end() && check->step == k && check->comparison.ok()) {
         out << csvNumber(check->comparison.batch_chi2) << ','

@@ -73,9 +73,10 @@ double batchOptimum(const Graph& source, const Registries& reg) {
 constexpr const char* kInfo3 = " 100 0 0 100 0 100\n";
 
 /// Replays `source` and, at `count` steps drawn with `seed`, compares the estimates with
-/// a batch solve of the same graph (a copy of the replayed graph at that step).
+/// a batch solve of the same graph (a copy of the replayed graph at that step): chi2
+/// within 1e-6 relative, every estimate entry within `tolerance`.
 void expectAgreementAtRandomSteps(const Graph& source, const Registries& reg, unsigned seed,
-                                  int count) {
+                                  int count, double tolerance) {
   std::mt19937 random(seed);
   std::uniform_int_distribution<std::size_t> pick(1, source.numVertices() / 2);
   std::set<std::size_t> steps;
@@ -88,7 +89,7 @@ void expectAgreementAtRandomSteps(const Graph& source, const Registries& reg, un
     ASSERT_TRUE(c.ok()) << "step " << step << ": " << c.summary.message;
     EXPECT_LE(std::abs(c.relative_gap), 1e-6)
         << "step " << step << ": chi2 " << c.chi2 << " batch " << c.batch_chi2;
-    EXPECT_LE(c.max_difference, 1e-4) << "step " << step << ": vertex " << c.worst_vertex;
+    EXPECT_LE(c.max_difference, tolerance) << "step " << step << ": vertex " << c.worst_vertex;
     ++checked;
   };
   Graph target;
@@ -272,7 +273,11 @@ TEST(Incremental_Replay, RandomStepsAgreeWithBatchSolves) {
   sim.num_landmarks = 30;
   sim.seed = 3;
   const auto simulated = simulation::simulateManhattan(sim);
-  expectAgreementAtRandomSteps(simulated.graph, reg, 2024, 8);
+  // Landmarks seen from two or three poses move with the poses' stale linearisation
+  // points: they agree to the relinearisation threshold (measured: 1.6e-4 m at its default
+  // 1e-3, 1.4e-5 at 1e-4); the poses of the intel test below to 1e-4.
+  expectAgreementAtRandomSteps(simulated.graph, reg, 2024, 8,
+                               incremental::Options{}.relinearize_threshold);
 }
 
 TEST(Incremental_Replay, IntelEndsAtTheBatchOptimum) {
@@ -289,7 +294,7 @@ TEST(Incremental_Replay, IntelEndsAtTheBatchOptimum) {
   const double optimum = batchOptimum(loaded.graph, reg);
   EXPECT_LE(std::abs(r.final_chi2 - optimum), 1e-6 * optimum)
       << "incremental " << r.final_chi2 << ", batch " << optimum;
-  expectAgreementAtRandomSteps(loaded.graph, reg, 38, 6);
+  expectAgreementAtRandomSteps(loaded.graph, reg, 38, 6, 1e-4);
 }
 
 TEST(Incremental_GraphCopy, CopiesEveryPartThroughTheRegistry) {

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Plot of `graphslam incremental --plot FILE.png`: the update time of every step (log
-scale; steps that recomputed the ordering marked) and chi2 after every step, against the
-step. Reads the CSV of --stats (columns step, seconds, reordered, chi2, batch_chi2).
+scale; steps whose relinearisation passes reached their limit marked) and chi2 after every
+step, against the step. Reads the CSV of --stats (columns step, seconds,
+pass_limit_reached, chi2, batch_chi2).
 usage: plot_incremental.py DATA.csv OUT.png TITLE"""
 import csv
 import math
@@ -37,10 +38,10 @@ def main():
     positive = [t for t in ms if t > 0]
     floor = min(positive) if positive else 1e-6
     ax_t.plot(step, [max(t, floor) for t in ms], ".", ms=2, color="tab:blue", label="update")
-    reordered = [(s, max(t, floor)) for s, t, r in zip(step, ms, rows) if r.get("reordered") == "1"]
-    if reordered:
-        ax_t.plot([s for s, _ in reordered], [t for _, t in reordered], "x", ms=4, color="tab:red",
-                  label=f"update that reordered ({len(reordered)})")
+    limited = [(s, max(t, floor)) for s, t, r in zip(step, ms, rows) if r.get("pass_limit_reached") == "1"]
+    if limited:
+        ax_t.plot([s for s, _ in limited], [t for _, t in limited], "x", ms=4, color="tab:red",
+                  label=f"update that reached its pass limit ({len(limited)})")
     ax_t.set_yscale("log")
     ax_t.set_ylabel("update time [ms] (log scale)")
     ax_t.grid(True, which="both", linewidth=0.3)
