@@ -72,9 +72,16 @@ double batchOptimum(const Graph& source, const Registries& reg) {
 
 constexpr const char* kInfo3 = " 100 0 0 100 0 100\n";
 
-/// Replays `source` and, at `count` steps drawn with `seed`, compares the estimates with
-/// a batch solve of the same graph (a copy of the replayed graph at that step): chi2
-/// within 1e-6 relative, every estimate entry within `tolerance`.
+/// The relinearisation threshold of the random-step comparisons. At the default (1e-2) the
+/// estimates between updates are further from the batch solution than 1e-6 relative in
+/// chi2 (intel: up to 7.7e-6, poses up to 8.2e-4 apart, at the steps drawn below); at 1e-3
+/// they agree to that, which is what these tests hold the replay and optimizer to.
+constexpr double kCheckedThreshold = 1e-3;
+
+/// Replays `source` (relinearisation threshold kCheckedThreshold) and, at `count` steps
+/// drawn with `seed`, compares the estimates with a batch solve of the same graph (a copy
+/// of the replayed graph at that step): chi2 within 1e-6 relative, every estimate entry
+/// within `tolerance`.
 void expectAgreementAtRandomSteps(const Graph& source, const Registries& reg, unsigned seed,
                                   int count, double tolerance) {
   std::mt19937 random(seed);
@@ -82,6 +89,7 @@ void expectAgreementAtRandomSteps(const Graph& source, const Registries& reg, un
   std::set<std::size_t> steps;
   while (static_cast<int>(steps.size()) < count) steps.insert(pick(random));
   ReplayOptions options;
+  options.optimizer.relinearize_threshold = kCheckedThreshold;
   std::size_t checked = 0;
   options.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
     if (!steps.count(step)) return;
@@ -243,6 +251,7 @@ TEST(Incremental_Replay, LandmarkGraphEndsAtTheBatchOptimum) {
   const double optimum = batchOptimum(simulated.graph, reg);
   EXPECT_LE(std::abs(r.final_chi2 - optimum), 1e-6 * optimum)
       << "incremental " << r.final_chi2 << ", batch " << optimum;
+  EXPECT_TRUE(std::isnan(r.refined_chi2));  // no refine() unless asked
 }
 
 TEST(Incremental_Replay, Graph3dWithParametersAndPoints) {
@@ -274,10 +283,9 @@ TEST(Incremental_Replay, RandomStepsAgreeWithBatchSolves) {
   sim.seed = 3;
   const auto simulated = simulation::simulateManhattan(sim);
   // Landmarks seen from two or three poses move with the poses' stale linearisation
-  // points: they agree to the relinearisation threshold (measured: 1.6e-4 m at its default
-  // 1e-3, 1.4e-5 at 1e-4); the poses of the intel test below to 1e-4.
-  expectAgreementAtRandomSteps(simulated.graph, reg, 2024, 8,
-                               incremental::Options{}.relinearize_threshold);
+  // points: they agree to the relinearisation threshold (measured: 1.6e-4 m at 1e-3,
+  // 1.4e-5 at 1e-4); the poses of the intel test below to 1e-4.
+  expectAgreementAtRandomSteps(simulated.graph, reg, 2024, 8, kCheckedThreshold);
 }
 
 TEST(Incremental_Replay, IntelEndsAtTheBatchOptimum) {
@@ -288,12 +296,27 @@ TEST(Incremental_Replay, IntelEndsAtTheBatchOptimum) {
   io::LoadResult loaded = io::loadG2o(path, reg.types);
   ASSERT_TRUE(loaded.ok());
   Graph target;
-  const ReplayResult r = incremental::replayGraph(loaded.graph, reg.types, target);
+  ReplayOptions options;
+  options.refine_threshold = 1e-6;
+  const ReplayResult r = incremental::replayGraph(loaded.graph, reg.types, target, options);
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_EQ(r.steps.size(), 1728u);
   const double optimum = batchOptimum(loaded.graph, reg);
   EXPECT_LE(std::abs(r.final_chi2 - optimum), 1e-6 * optimum)
       << "incremental " << r.final_chi2 << ", batch " << optimum;
+  // refine() closes the rest of the gap the relinearisation threshold leaves.
+  EXPECT_LE(std::abs(r.refined_chi2 - optimum), 1e-10 * optimum)
+      << "refined " << r.refined_chi2 << ", batch " << optimum;
+  EXPECT_GT(r.refine_stats.passes, 0);
+}
+
+TEST(Incremental_Replay, IntelRandomStepsAgreeWithBatchSolves) {
+  Registries reg;
+  const std::string path = test::dataDir() + "/intel.g2o";
+  if (!test::fileExists(path))
+    GTEST_SKIP() << "dataset " << path << " not found (set GRAPHSLAM_DATA)";
+  io::LoadResult loaded = io::loadG2o(path, reg.types);
+  ASSERT_TRUE(loaded.ok());
   expectAgreementAtRandomSteps(loaded.graph, reg, 38, 6, 1e-4);
 }
 

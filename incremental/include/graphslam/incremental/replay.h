@@ -73,6 +73,10 @@ struct ReplayOptions {
   /// range-bearing landmark started at the observing pose's position), it starts once more
   /// from that start moved by this in every tangent direction before the vertex is counted.
   double init_restart_offset = 1.0;
+  /// After the last step, IncrementalOptimizer::refine(refine_threshold) when > 0: every
+  /// vertex whose step from its linearisation point exceeds it relinearised until none
+  /// does. Not a step (not in total_seconds); ReplayResult reports it apart. 0: off.
+  double refine_threshold = 0.0;
   /// Called after every step, outside the timed part, with the step's index, what it
   /// recorded and the graph as it now stands (e.g. to compare it with a batch solve).
   std::function<void(std::size_t step, const ReplayStep&, const Graph&)> after_step;
@@ -84,8 +88,14 @@ struct ReplayResult {
   std::string pose_tag;  ///< the tag of the poses
   std::size_t num_landmarks = 0;
   double total_seconds = 0.0;  ///< sum of the steps' update() times
-  /// Objective at the end (of the graph replayed up to the failing step, on a failure).
+  /// Objective after the last step's update (of the graph replayed up to the failing step,
+  /// on a failure), before any refine().
   double final_chi2 = 0.0;
+  /// With ReplayOptions::refine_threshold: the objective after refine(), its wall time and
+  /// what it did (NaN, 0 and empty otherwise).
+  double refined_chi2 = std::numeric_limits<double>::quiet_NaN();
+  double refine_seconds = 0.0;
+  UpdateStats refine_stats;
   /// Vertices that took the file's estimate because their first edge's Jacobian was rank
   /// deficient (or that have no edge to a pose: landmarks only).
   int initialised_from_file = 0;
@@ -93,7 +103,7 @@ struct ReplayResult {
   int gaps = 0;
   bool ok = true;
   /// On a failed update(): "step S (pose P): " and the failure's message, which names the
-  /// vertex whose column failed.
+  /// vertex whose column failed ("the final refine(): " and the message when refine() failed).
   std::string error;
 };
 
