@@ -14,9 +14,9 @@ GRAPHSLAM is the graphslam binary; --data the datasets folder (default $GRAPHSLA
 ../shared/datasets beside the repository). Columns: steps, total update time, per-step p50,
 p99 and max, the final chi2 of the replay, the batch optimum (`optimize`'s defaults on the
 whole file), their relative gap, and the batch optimizer's time, as `graphslam incremental`
-prints them; with --refine X (passed on), also the gap after the optimizer's refine() and
-refine()'s time, which is not part of the total. A file that is missing, fails or exceeds
---timeout is a row saying so.
+prints them; then the gap after the optimizer's refine(X) that ends the run (--refine X,
+passed on; default 1e-6, 0: none) and refine()'s time, which is not part of the total. A
+file that is missing, fails or exceeds --timeout is a row saying so.
 
 --isam2 PATH runs an external program (for example a replay written against a GTSAM build;
 nothing here builds or ships one) the same way, as `PATH [ARG...] FILE.g2o`, and adds a
@@ -118,7 +118,8 @@ def main():
     ap.add_argument("--files", default=",".join(FILES), help="comma-separated names without .g2o")
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds per run")
     ap.add_argument("--relinearize-threshold", type=float, default=None)
-    ap.add_argument("--refine", type=float, default=None, help="passed on to graphslam incremental")
+    ap.add_argument("--refine", type=float, default=1e-6,
+                    help="passed on to graphslam incremental (0: no refine)")
     ap.add_argument("--isam2", help="external replay program (see the header)")
     ap.add_argument("--isam2-arg", action="append", default=[], help="argument before FILE (repeatable)")
     args = ap.parse_args()
@@ -133,7 +134,7 @@ def main():
         cmd = [args.graphslam, "incremental", path]
         if args.relinearize_threshold is not None:
             cmd += ["--relinearize-threshold", repr(args.relinearize_threshold)]
-        if args.refine is not None:
+        if args.refine > 0:
             cmd += ["--refine", repr(args.refine)]
         print("running", " ".join(cmd), file=sys.stderr, flush=True)
         out, why = run(cmd, args.timeout)
@@ -142,7 +143,7 @@ def main():
             out, why = run([args.isam2] + args.isam2_arg + [path], args.timeout)
             theirs[name] = why or parse_isam2(out)
 
-    refined = args.refine is not None
+    refined = args.refine > 0
     extra_head = " gap after refine | refine time |" if refined else ""
     print("| file | steps | total | p50 | p99 | max | final chi2 | batch optimum | relative gap | batch time |"
           + extra_head)
