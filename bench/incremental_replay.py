@@ -78,6 +78,8 @@ def run(cmd, timeout):
         last = (p.stderr.strip().splitlines() or p.stdout.strip().splitlines() or [""])[-1]
         print("failed (%d): %s\n%s%s" % (p.returncode, " ".join(cmd), p.stdout[-2000:], p.stderr[-2000:]),
               file=sys.stderr, flush=True)
+        if p.returncode < 0:
+            return None, "killed by signal %d" % -p.returncode
         return None, "failed (exit %d): %s" % (p.returncode, last[:80])
     return p.stdout, None
 
