@@ -21,6 +21,15 @@ const std::string& tagOrThrow(const Object& object, const TypeRegistry& types,
   return *tag;
 }
 
+/// The line parameters (Vertex / Edge::getParameterData) of `from` into `to`.
+template <typename Object>
+void copyParameterData(const Object& from, Object& to) {
+  std::vector<double> data(static_cast<std::size_t>(from.parameterDataDimension()));
+  if (data.empty()) return;
+  from.getParameterData(data.data());
+  to.setParameterData(data.data());
+}
+
 }  // namespace
 
 std::unique_ptr<Vertex> copyVertex(const Vertex& vertex, const TypeRegistry& types) {
@@ -30,11 +39,7 @@ std::unique_ptr<Vertex> copyVertex(const Vertex& vertex, const TypeRegistry& typ
   std::vector<double> data(static_cast<std::size_t>(vertex.estimateDataDimension()));
   vertex.getEstimateData(data.data());
   copy->setEstimateData(data.data());
-  data.assign(static_cast<std::size_t>(vertex.parameterDataDimension()), 0.0);
-  if (!data.empty()) {
-    vertex.getParameterData(data.data());
-    copy->setParameterData(data.data());
-  }
+  copyParameterData(vertex, *copy);
   copy->setFixed(vertex.fixed());
   return copy;
 }
@@ -51,11 +56,7 @@ std::unique_ptr<Edge> copyEdge(const Edge& edge, const TypeRegistry& types) {
   std::vector<double> data(static_cast<std::size_t>(edge.measurementDataDimension()));
   edge.getMeasurementData(data.data());
   copy->setMeasurementData(data.data());
-  data.assign(static_cast<std::size_t>(edge.parameterDataDimension()), 0.0);
-  if (!data.empty()) {
-    edge.getParameterData(data.data());
-    copy->setParameterData(data.data());
-  }
+  copyParameterData(edge, *copy);
   copy->setInformationData(edge.informationData());
   copy->setRobustKernel(edge.sharedRobustKernel());
   return copy;

@@ -71,6 +71,25 @@ double batchOptimum(const Graph& source, const Registries& reg) {
   return s.final_cost;
 }
 
+/// A seeded Manhattan world with landmarks (EDGE_SE2_XY), dead-reckoned estimates.
+simulation::SimulatedGraph simulateLandmarkGraph(int poses, int landmarks, std::uint32_t seed) {
+  simulation::ManhattanOptions sim;
+  sim.num_poses = poses;
+  sim.num_landmarks = landmarks;
+  sim.seed = seed;
+  return simulation::simulateManhattan(sim);
+}
+
+/// A seeded 3D grid of poses with points seen through a PARAMS_SE3OFFSET sensor.
+simulation::SimulatedGraph3d simulateGrid3d(int poses, int points, std::uint32_t seed) {
+  simulation::PoseGraph3dOptions sim;
+  sim.shape = simulation::PoseGraph3dOptions::Shape::kGrid;
+  sim.num_poses = poses;
+  sim.num_points = points;
+  sim.seed = seed;
+  return simulation::simulatePoseGraph3d(sim);
+}
+
 constexpr const char* kInfo3 = " 100 0 0 100 0 100\n";
 
 /// The relinearisation threshold of the comparisons with the batch optimizer. At 1e-2 the
@@ -245,11 +264,7 @@ TEST(Incremental_Replay, TargetMustBeEmpty) {
 
 TEST(Incremental_Replay, LandmarkGraphEndsAtTheBatchOptimum) {
   Registries reg;
-  simulation::ManhattanOptions sim;
-  sim.num_poses = 300;
-  sim.num_landmarks = 40;
-  sim.seed = 11;
-  const auto simulated = simulation::simulateManhattan(sim);
+  const auto simulated = simulateLandmarkGraph(300, 40, 11);
   Graph target;
   const ReplayResult r =
       incremental::replayGraph(simulated.graph, reg.types, target, checkedOptions());
@@ -265,12 +280,7 @@ TEST(Incremental_Replay, LandmarkGraphEndsAtTheBatchOptimum) {
 
 TEST(Incremental_Replay, Graph3dWithParametersAndPoints) {
   Registries reg;
-  simulation::PoseGraph3dOptions sim;
-  sim.shape = simulation::PoseGraph3dOptions::Shape::kGrid;
-  sim.num_poses = 80;
-  sim.num_points = 15;
-  sim.seed = 5;
-  const auto simulated = simulation::simulatePoseGraph3d(sim);
+  const auto simulated = simulateGrid3d(80, 15, 5);
   ASSERT_FALSE(simulated.graph.parameters().empty());
   Graph target;
   const ReplayResult r =
@@ -287,11 +297,7 @@ TEST(Incremental_Replay, Graph3dWithParametersAndPoints) {
 
 TEST(Incremental_Replay, RandomStepsAgreeWithBatchSolves) {
   Registries reg;
-  simulation::ManhattanOptions sim;
-  sim.num_poses = 400;
-  sim.num_landmarks = 30;
-  sim.seed = 3;
-  const auto simulated = simulation::simulateManhattan(sim);
+  const auto simulated = simulateLandmarkGraph(400, 30, 3);
   // Landmarks seen from two or three poses move with the poses' stale linearisation
   // points: they agree to the relinearisation threshold (measured: 1.6e-4 m at 1e-3,
   // 1.4e-5 at 1e-4); the poses of the intel test below to 1e-4.
@@ -349,11 +355,7 @@ TEST(Incremental_Replay, IntelRandomStepsAgreeWithBatchSolves) {
 
 TEST(Incremental_GraphCopy, CopiesEveryPartThroughTheRegistry) {
   Registries reg;
-  simulation::PoseGraph3dOptions sim;
-  sim.shape = simulation::PoseGraph3dOptions::Shape::kGrid;
-  sim.num_poses = 30;
-  sim.num_points = 5;
-  auto simulated = simulation::simulatePoseGraph3d(sim);
+  auto simulated = simulateGrid3d(30, 5, 42);
   Graph& source = simulated.graph;
   source.vertex(0)->setFixed(true);
   auto kernel = std::make_shared<robust::CauchyKernel>(2.0);
