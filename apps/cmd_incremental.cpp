@@ -144,10 +144,10 @@ void printChecks(const std::vector<StepCheck>& checks, int every) {
               every, checks.size());
   if (gap) {
     std::printf(
-        "  largest relative chi2 gap %.3g (step %zu); largest estimate difference %.3g "
-        "(vertex %d at step %zu)\n",
-        gap->comparison.relative_gap, gap->step, diff->comparison.max_difference,
-        diff->comparison.worst_vertex, diff->step);
+        "  largest relative chi2 gap %.3g (step %zu: %.10g against %.10g); largest estimate "
+        "difference %.3g (vertex %d at step %zu)\n",
+        gap->comparison.relative_gap, gap->step, gap->comparison.chi2, gap->comparison.batch_chi2,
+        diff->comparison.max_difference, diff->comparison.worst_vertex, diff->step);
   }
   if (failed) {
     std::printf("  %zu batch solves failed, the first at step %zu: %s\n", num_failed, failed->step,
