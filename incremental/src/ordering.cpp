@@ -30,6 +30,11 @@ std::vector<int> constrainedBlockOrdering(const std::vector<std::vector<int>>& a
   }
   std::vector<int> constraint(n, 0);
   for (int j = 0; j < n; ++j) constraint[j] = last[j] != 0 ? 1 : 0;
+  // CAMD needs the constraint sets numbered below n: when every block is to go last there
+  // is nothing to constrain (a single block would otherwise be set 1 of 1).
+  if (std::find(constraint.begin(), constraint.end(), 0) == constraint.end()) {
+    std::fill(constraint.begin(), constraint.end(), 0);
+  }
   const int status = camd_order(n, col_ptr.data(), rows.empty() ? col_ptr.data() : rows.data(),
                                 order.data(), nullptr, nullptr, constraint.data());
   if (status < CAMD_OK) throw Error("incremental: CAMD ordering failed (status " +

@@ -325,6 +325,24 @@ TEST(Incremental, Se3PoseGraphMatchesBatch) {
   }
 }
 
+// One new vertex alone in the re-eliminated part, which is all to go last (the ordering's
+// constraint sets must stay below their count: a replay of garage crashed on it).
+TEST(Incremental, SingleVertexUnderAPrior) {
+  Graph graph;
+  IncrementalOptimizer inc(graph);
+  auto v = std::make_unique<types_slam2d::VertexSE2>();
+  v->setId(0);
+  inc.addVertex(std::move(v));
+  auto prior = registries().types.createEdge("EDGE_PRIOR_SE2");
+  prior->setVertexIds({0});
+  const double z[3] = {1.0, 2.0, 0.5};
+  prior->setMeasurementData(z);
+  inc.addEdge(std::move(prior));
+  ASSERT_TRUE(inc.update()) << inc.failure().message;
+  EXPECT_NEAR(inc.chi2(), 0.0, 1e-20);
+  EXPECT_EQ(inc.factorColumns(), 1u);
+}
+
 TEST(Incremental, OptionsOutOfRangeThrow) {
   Graph graph;
   incremental::Options o;
