@@ -62,11 +62,14 @@ struct UpdateFailure {
 
 /// An optimizer for a graph that grows: vertices and edges are added (and edges removed)
 /// through it, and update() after each batch of changes brings the estimates to the optimum
-/// of the graph as it is, doing work that follows what changed (iSAM2's idea in matrix form):
+/// of the graph as it is (to within what Options::relinearize_threshold leaves; refine()
+/// for the exact optimum), doing work that follows what changed (iSAM2's idea in matrix
+/// form, docs/ARCHITECTURE.md "Incremental optimisation"):
 ///  - the Cholesky factor of H = sum J^T Omega J is kept with its elimination order; when
 ///    columns of H change (new edges, relinearised edges), only they and their ancestors in
 ///    the elimination tree are ordered again (CAMD, the vertices of the new edges last) and
-///    eliminated again -- the rest of the factor does not depend on them;
+///    eliminated again (multifrontal: each vertex keeps what its subtree passes up) -- the
+///    rest of the factor does not depend on them;
 ///  - each vertex has a linearisation point; an edge is linearised again only when it is new
 ///    or one of its vertices moved further than Options::relinearize_threshold from it.
 /// Any registered vertex and edge type works, 2D or 3D, with robust kernels (reweighted at
