@@ -16,11 +16,6 @@ using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
 
-// A chain goes on in the same front only while the front has at least this many rows: a
-// large front saves its copies into and out of an update matrix, a small one is cheaper to
-// eliminate again alone (a chain is eliminated again whole; near the root, where every
-// update starts, fronts are small).
-constexpr int kMinChainFront = 48;
 
 void ColumnBuilder::begin(int p, const std::vector<int>& dims) {
   for (int q : rows_) slot_of_[q] = -1;
@@ -121,7 +116,7 @@ BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
       ++i;
       const int q = parent_[p];
       if (i < order_.size() && order_[i] == q && children_[q].size() == 1 &&
-          columns_[p].height >= kMinChainFront && continueFront(q, assemble)) {
+          columns_[p].height >= chain_min_front_rows_ && continueFront(q, assemble)) {
         chain_child_[q] = p;
         p = q;
         continue;

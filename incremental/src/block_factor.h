@@ -48,6 +48,10 @@ class BlockFactor {
   using Neighbors = std::function<void(int node, std::vector<int>& out)>;
 
   void clear();
+  /// A chain (the next node is the parent, the only child, its edges inside the front) goes
+  /// on in the same front only while the front has at least this many rows (see
+  /// incremental::Options::chain_min_front_rows).
+  void setChainMinFrontRows(int rows) { chain_min_front_rows_ = rows; }
   /// A new node of dimension `dim` (ids count up from 0); it enters the factor at the next
   /// refactor, which must name it as changed.
   int add(int dim);
@@ -122,6 +126,7 @@ class BlockFactor {
   // The child a node's elimination continued from in the same front (-1: none); that child
   // kept no update matrix, so it is eliminated again whenever the node is.
   std::vector<int> chain_child_;
+  int chain_min_front_rows_ = 48;
   std::vector<double> y_, x_;
   ColumnBuilder builder_;
   // The frontal matrix of the node being eliminated (its column and rows) and its

@@ -74,11 +74,13 @@ struct IncrementalOptimizer::Impl {
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
     : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
   if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
-      options_.relinearize_skip < 1 || !(options_.backsubstitution_threshold >= 0.0)) {
+      options_.relinearize_skip < 1 || !(options_.backsubstitution_threshold >= 0.0) ||
+      options_.chain_min_front_rows < 1) {
     throw Error("IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
-                "max_passes >= 1, relinearize_skip >= 1)");
+                "max_passes >= 1, relinearize_skip >= 1, chain_min_front_rows >= 1)");
   }
   impl_->version = graph_.structureVersion();
+  impl_->factor.setChainMinFrontRows(options_.chain_min_front_rows);
 }
 
 IncrementalOptimizer::~IncrementalOptimizer() = default;

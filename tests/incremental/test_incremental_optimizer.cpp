@@ -182,6 +182,15 @@ TEST(Incremental, TighterRelinearisationThresholdMatchesBatchCloser) {
   expectBatchAgreement(options, 1e-6, 1e-4);
 }
 
+// Every chain of the elimination tree in one front (the test graphs' fronts are below the
+// default's 48 rows, so this is where the chained elimination is checked).
+TEST(Incremental, ChainsInOneFrontMatchBatchToo) {
+  incremental::Options options;
+  options.relinearize_threshold = 1e-3;
+  options.chain_min_front_rows = 1;
+  expectBatchAgreement(options, 1e-6, 1e-4);
+}
+
 TEST(Incremental, RelinearisationSkipStillEndsAtTheOptimumAfterRefine) {
   incremental::Options options;
   options.relinearize_skip = 10;
@@ -356,6 +365,9 @@ TEST(Incremental, OptionsOutOfRangeThrow) {
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   o = {};
   o.relinearize_skip = 0;
+  EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
+  o = {};
+  o.chain_min_front_rows = 0;
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   IncrementalOptimizer inc(graph);
   EXPECT_THROW((void)inc.refine(), Error) << "refine before update";

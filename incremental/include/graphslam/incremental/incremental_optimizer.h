@@ -38,6 +38,13 @@ struct Options {
   /// touches a few columns instead of all (intel: median update 0.29 -> 0.03 ms) while the
   /// estimates stay within rounding of the exact solution of the linear system.
   double backsubstitution_threshold = 1e-9;
+  /// Consecutive vertices of a chain of the elimination tree (the next is the parent, the
+  /// only child, its edges inside the front) are eliminated in one front, without an update
+  /// matrix copied out and back in between, while the front has at least this many rows. A
+  /// chain is eliminated again whole, so small fronts (near the root, where every update
+  /// starts) stay single. City10000 replayed at 48: 85.8 s; at 120: 95.7 s (m3500 1.6 and
+  /// 2.2 s); without chains: 126 s (docs/BENCHMARKS.md, "Incremental optimisation").
+  int chain_min_front_rows = 48;
 };
 
 /// What one update() did.
