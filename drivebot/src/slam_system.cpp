@@ -85,16 +85,15 @@ DriveBotSlamSystem::DriveBotSlamSystem(const SolverRegistry& solvers, SlamSystem
   if (options_.max_iterations < 1) throw Error("DriveBot SLAM: max_iterations must be >= 1");
   if (options_.prune_every < 1) throw Error("DriveBot SLAM: prune_every must be >= 1");
   if (usesIncremental()) {
-    incremental_ = std::make_unique<incremental::IncrementalOptimizer>(graph_,
-                                                                       options_.incremental_options);
+    incremental_ =
+        std::make_unique<incremental::IncrementalOptimizer>(graph_, options_.incremental_options);
   }
 }
 
 bool DriveBotSlamSystem::usesIncremental() const {
   // The coursework's unwrapped compass error jumps by 2 pi where the heading wraps:
   // undamped Gauss-Newton passes diverge on it, the batch optimizer's damping does not.
-  return options_.incremental &&
-         options_.remove_prediction_edges == PredictionEdgeRemoval::kNone &&
+  return options_.incremental && options_.remove_prediction_edges == PredictionEdgeRemoval::kNone &&
          options_.prune != PruneRule::kCoursework && options_.compass_wrap_error;
 }
 
@@ -354,8 +353,8 @@ Summary DriveBotSlamSystem::optimizeBatch(int max_iterations) {
   summary = optimizer_->optimize();
   // The batch run moved the estimates: the incremental factor starts again from them.
   if (incremental_) {
-    incremental_ = std::make_unique<incremental::IncrementalOptimizer>(graph_,
-                                                                       options_.incremental_options);
+    incremental_ =
+        std::make_unique<incremental::IncrementalOptimizer>(graph_, options_.incremental_options);
   }
   return summary;
 }

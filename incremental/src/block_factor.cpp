@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "block_factor.h"
 
-#include <algorithm>
-#include <numeric>
-#include <queue>
-
 #include <Eigen/Cholesky>
+#include <algorithm>
+#include <queue>
 
 #include "ordering.h"
 
@@ -15,7 +13,6 @@ using Eigen::Index;
 using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
-
 
 void ColumnBuilder::begin(int p, const std::vector<int>& dims) {
   for (int q : rows_) slot_of_[q] = -1;
@@ -95,8 +92,8 @@ std::size_t BlockFactor::offDiagonalBlocks() const {
 }
 
 BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
-                                          const std::vector<int>& last,
-                                          const Neighbors& neighbors, const Assemble& assemble) {
+                                          const std::vector<int>& last, const Neighbors& neighbors,
+                                          const Assemble& assemble) {
   const std::vector<int> affected = affectedNodes(changed);
   order_ = orderAffected(affected, last, neighbors);
   moveToEnd(affected, order_);
@@ -201,8 +198,8 @@ void BlockFactor::moveToEnd(const std::vector<int>& affected, const std::vector<
   }
   for (int k : orphans) {
     const std::vector<int>& rows = columns_[k].rows;
-    parent_[k] = *std::min_element(rows.begin(), rows.end(),
-                                   [this](int a, int b) { return before(a, b); });
+    parent_[k] =
+        *std::min_element(rows.begin(), rows.end(), [this](int a, int b) { return before(a, b); });
     children_[parent_[k]].push_back(k);
   }
 }
@@ -293,7 +290,8 @@ bool BlockFactor::factorPivot(int p) {
   Column& c = columns_[p];
   c.rows.clear();
   c.row_offsets.clear();
-  for (auto it = std::find(front_rows_.begin(), front_rows_.end(), p) + 1; it != front_rows_.end(); ++it) {
+  for (auto it = std::find(front_rows_.begin(), front_rows_.end(), p) + 1; it != front_rows_.end();
+       ++it) {
     c.rows.push_back(*it);
     c.row_offsets.push_back(front_offset_[*it] - top);
   }
@@ -350,7 +348,8 @@ std::vector<int> BlockFactor::solve(double threshold) {
     for (int child : children_[p]) {
       if (queued_[child] != 0) continue;
       const std::vector<int>& rows = columns_[child].rows;
-      if (std::none_of(rows.begin(), rows.end(), [this](int q) { return moved_[q] != 0; })) continue;
+      if (std::none_of(rows.begin(), rows.end(), [this](int q) { return moved_[q] != 0; }))
+        continue;
       queued_[child] = 1;
       pending.push(child);
     }
@@ -368,7 +367,8 @@ double BlockFactor::solveNode(int p) {
   gathered_.resize(c.height - dp);
   for (std::size_t j = 0; j < c.rows.size(); ++j) {
     const int q = c.rows[j];
-    gathered_.segment(c.row_offsets[j] - dp, dims_[q]) = ConstVectorMap(x_.data() + starts_[q], dims_[q]);
+    gathered_.segment(c.row_offsets[j] - dp, dims_[q]) =
+        ConstVectorMap(x_.data() + starts_[q], dims_[q]);
   }
   const ConstMatrixMap panel(c.panel.data(), c.height, dp);
   Eigen::VectorXd r = ConstVectorMap(y_.data() + starts_[p], dp);

@@ -10,11 +10,10 @@
 // children's updates, not its whole subtree.
 #pragma once
 
-#include <functional>
-#include <vector>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <functional>
+#include <vector>
 
 namespace graphslam::incremental {
 
@@ -92,8 +91,8 @@ class BlockFactor {
     std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
     // (empty for a node whose elimination went on into its parent's, chain_child_):
-    std::vector<double> update;    // h x h, lower triangle: the Schur complement onto the rows
-    std::vector<double> vector;    // h: the forward solution's contribution
+    std::vector<double> update;  // h x h, lower triangle: the Schur complement onto the rows
+    std::vector<double> vector;  // h: the forward solution's contribution
   };
   [[nodiscard]] int parent(int node) const { return parent_[node]; }
   std::vector<int> affectedNodes(const std::vector<int>& changed);
@@ -109,16 +108,16 @@ class BlockFactor {
   double solveNode(int p);
 
   std::vector<int> dims_;
-  std::vector<int> starts_;  // scalar offset of each node in y and x
+  std::vector<int> starts_;     // scalar offset of each node in y and x
   std::vector<long long> pos_;  // node -> elimination key
   long long next_key_ = 0;
   // Per-node flags and their lists (reset by list, so an update costs what it touches):
   std::vector<char> affected_;  // by the last refactor
   std::vector<int> affected_list_;
-  std::vector<int> local_;      // orderAffected's node -> index among the affected
-  std::vector<char> queued_;    // solve's
-  std::vector<char> moved_;     // solve's: the solution changed by more than its threshold
-  std::vector<int> order_;      // the affected nodes in elimination order
+  std::vector<int> local_;    // orderAffected's node -> index among the affected
+  std::vector<char> queued_;  // solve's
+  std::vector<char> moved_;   // solve's: the solution changed by more than its threshold
+  std::vector<int> order_;    // the affected nodes in elimination order
   std::vector<Column> columns_;
   // Elimination tree: a node's parent is its row of the smallest key (-1 for a root).
   std::vector<int> parent_;
@@ -133,7 +132,7 @@ class BlockFactor {
   // right-hand side; front_offset_ maps a node to its first row in them.
   Eigen::MatrixXd front_;
   Eigen::VectorXd front_rhs_;
-  std::vector<int> front_rows_;    // nodes of the front, in key order
+  std::vector<int> front_rows_;  // nodes of the front, in key order
   std::vector<int> front_offset_;
   std::vector<char> in_front_;
   Eigen::LLT<Eigen::MatrixXd> llt_;

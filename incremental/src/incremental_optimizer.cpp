@@ -44,7 +44,7 @@ struct IncrementalOptimizer::Impl {
   void rebuild();
   void integrateNewEdges(std::vector<int>& touched);
   int variableFor(Vertex& v);
-  void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_positions);
+  void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_nodes);
   void assemble(int p, ColumnBuilder& builder) const;
   void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
   void remember(int var);
@@ -54,7 +54,6 @@ struct IncrementalOptimizer::Impl {
   const Options& options;
   std::unordered_map<VertexId, int> var_of;
   std::vector<Variable> vars;
-  std::unordered_map<const Edge*, int> factor_of;
   std::vector<Factor> factors;
   std::vector<Edge*> new_edges;
   bool needs_rebuild = true;
@@ -67,7 +66,7 @@ struct IncrementalOptimizer::Impl {
   bool built = false;  // an update() ran
   long update_count = 0;
   std::vector<std::pair<int, std::vector<double>>> undo;  // estimates before this update
-  std::vector<char> remembered;  // per variable: in the undo log
+  std::vector<char> remembered;                           // per variable: in the undo log
   std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
 };
 
@@ -76,8 +75,9 @@ IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
   if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
       options_.relinearize_skip < 1 || !(options_.backsubstitution_threshold >= 0.0) ||
       options_.chain_min_front_rows < 1) {
-    throw Error("IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
-                "max_passes >= 1, relinearize_skip >= 1, chain_min_front_rows >= 1)");
+    throw Error(
+        "IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
+        "max_passes >= 1, relinearize_skip >= 1, chain_min_front_rows >= 1)");
   }
   impl_->version = graph_.structureVersion();
   impl_->factor.setChainMinFrontRows(options_.chain_min_front_rows);
@@ -176,7 +176,7 @@ bool IncrementalOptimizer::Impl::refine(double threshold) {
   std::vector<int> far;
   for (std::size_t var = 0; var < vars.size(); ++var) {
     const auto x = factor.solution(static_cast<int>(var));
-    if (x.size() > 0 && x.cwiseAbs().maxCoeff() > threshold) far.push_back(static_cast<int>(var));
+    if (x.cwiseAbs().maxCoeff() > threshold) far.push_back(static_cast<int>(var));
   }
   if (far.empty()) return true;
   return solve(relinearizeVertices(far), {}, threshold, true);
@@ -240,7 +240,6 @@ std::vector<int> IncrementalOptimizer::Impl::relinearizeVertices(const std::vect
 void IncrementalOptimizer::Impl::rebuild() {
   var_of.clear();
   vars.clear();
-  factor_of.clear();
   factors.clear();
   factor.clear();
   new_edges.clear();
@@ -264,8 +263,8 @@ int IncrementalOptimizer::Impl::variableFor(Vertex& v) {
   return it->second;
 }
 
-// New edges become factors; their free vertices become variables (appended at the end of
-// the elimination order). `touched` receives the new factors.
+// New edges become factors; their free vertices not yet in the system become variables (new
+// nodes of the factor, ordered by the next refactor). `touched` receives the new factors.
 void IncrementalOptimizer::Impl::integrateNewEdges(std::vector<int>& touched) {
   for (Edge* e : new_edges) {
     if (!e->active()) continue;
@@ -287,7 +286,6 @@ void IncrementalOptimizer::Impl::integrateNewEdges(std::vector<int>& touched) {
     for (int var : f.vars) {
       if (var >= 0) vars[var].factors.push_back(id);
     }
-    factor_of.emplace(e, id);
     factors.push_back(std::move(f));
     touched.push_back(id);
     ++stats.new_edges;
@@ -297,9 +295,9 @@ void IncrementalOptimizer::Impl::integrateNewEdges(std::vector<int>& touched) {
 
 // Linearises the factors at the linearisation points of their vertices (a vertex holding
 // theta0 + x with x != 0 is moved to theta0 for it and back after) and collects the
-// elimination positions whose columns of H change.
+// nodes whose columns of H change.
 void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
-                                           std::vector<int>& changed_positions) {
+                                           std::vector<int>& changed_nodes) {
   std::vector<int> moved;
   for (int id : factor_ids) {
     for (int var : factors[id].vars) {
@@ -322,18 +320,19 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
     for (int a = 0; a < n; ++a) {
       for (int b = a; b < n; ++b) {
         if (f.offsets[a] < 0 || f.offsets[b] < 0) continue;
-        refs[upperPairIndex(a, b, n)] = HessianBlockRef{f.offsets[a] + f.offsets[b] * f.dim, f.dim, false};
+        refs[upperPairIndex(a, b, n)] =
+            HessianBlockRef{f.offsets[a] + f.offsets[b] * f.dim, f.dim, false};
       }
     }
     f.hessian.assign(static_cast<std::size_t>(f.dim) * f.dim, 0.0);
     f.gradient.assign(f.dim, 0.0);
-    e.constructQuadraticForm(QuadraticFormTarget{f.hessian.data(), f.gradient.data(), refs.data(),
-                                                 f.offsets.data()});
+    e.constructQuadraticForm(
+        QuadraticFormTarget{f.hessian.data(), f.gradient.data(), refs.data(), f.offsets.data()});
     for (int c = 0; c < f.dim; ++c) {
       for (int r = c + 1; r < f.dim; ++r) f.hessian[r + c * f.dim] = f.hessian[c + r * f.dim];
     }
     for (int var : f.vars) {
-      if (var >= 0) changed_positions.push_back(var);
+      if (var >= 0) changed_nodes.push_back(var);
     }
   }
   for (int var : moved) {
@@ -342,9 +341,8 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
     moved_flag[var] = 0;
   }
   stats.relinearized_edges += static_cast<int>(factor_ids.size());
-  std::sort(changed_positions.begin(), changed_positions.end());
-  changed_positions.erase(std::unique(changed_positions.begin(), changed_positions.end()),
-                          changed_positions.end());
+  std::sort(changed_nodes.begin(), changed_nodes.end());
+  changed_nodes.erase(std::unique(changed_nodes.begin(), changed_nodes.end()), changed_nodes.end());
 }
 
 // Column p of H (rows at or after p) and -g_p: the sum over the factors of p's vertex.
@@ -355,8 +353,8 @@ void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
   for (int id : vars[var].factors) {
     const Factor& f = factors[id];
     const Eigen::Map<const Eigen::MatrixXd> h(f.hessian.data(), f.dim, f.dim);
-    const auto slot = static_cast<std::size_t>(
-        std::find(f.vars.begin(), f.vars.end(), var) - f.vars.begin());
+    const auto slot =
+        static_cast<std::size_t>(std::find(f.vars.begin(), f.vars.end(), var) - f.vars.begin());
     const int col = f.offsets[slot];
     const int dp = vars[var].vertex->dimension();
     rhs -= Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + col, dp);

@@ -37,8 +37,8 @@ std::vector<int> constrainedBlockOrdering(const std::vector<std::vector<int>>& a
   }
   const int status = camd_order(n, col_ptr.data(), rows.empty() ? col_ptr.data() : rows.data(),
                                 order.data(), nullptr, nullptr, constraint.data());
-  if (status < CAMD_OK) throw Error("incremental: CAMD ordering failed (status " +
-                                    std::to_string(status) + ")");
+  if (status < CAMD_OK)
+    throw Error("incremental: CAMD ordering failed (status " + std::to_string(status) + ")");
 #else
   (void)last;
 #endif

@@ -9,6 +9,7 @@
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/incremental/graph_copy.h"
 #include "graphslam/incremental/incremental_optimizer.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_bearing_se2_xy.h"
@@ -42,33 +43,8 @@ Registries& registries() {
   return r;
 }
 
-// A copy of `g` made through the registry (estimates, measurements, information, fixed flags).
-Graph copyGraph(const Graph& g) {
-  const TypeRegistry& types = registries().types;
-  Graph out;
-  for (const auto& [id, v] : g.vertices()) {
-    auto c = types.createVertex(*types.tagOf(*v));
-    c->setId(id);
-    std::vector<double> data(v->estimateDataDimension());
-    v->getEstimateData(data.data());
-    c->setEstimateData(data.data());
-    c->setFixed(v->fixed());
-    out.addVertex(std::move(c));
-  }
-  for (const auto& e : g.edges()) {
-    auto c = types.createEdge(*types.tagOf(*e));
-    c->setVertexIds(e->vertexIds());
-    std::vector<double> m(e->measurementDataDimension());
-    e->getMeasurementData(m.data());
-    c->setMeasurementData(m.data());
-    c->setInformationData(e->informationData());
-    out.addEdge(std::move(c));
-  }
-  return out;
-}
-
 double batchChi2(const Graph& g, Graph* optimised = nullptr) {
-  Graph copy = copyGraph(g);
+  Graph copy = incremental::copyGraph(g, registries().types);
   Optimizer opt(copy, registries().solvers);
   const Summary s = opt.optimize();
   EXPECT_TRUE(s.succeeded()) << s.message;
@@ -104,8 +80,8 @@ class SquareLaps {
       inc.addVertex(std::move(v));
       return;
     }
-    const SE2 odo = truth_[k - 1].inverse() * truth_[k] *
-                    SE2(noise(rng_), noise(rng_), noise(rng_));
+    const SE2 odo =
+        truth_[k - 1].inverse() * truth_[k] * SE2(noise(rng_), noise(rng_), noise(rng_));
     const auto& prev = static_cast<const types_slam2d::VertexSE2&>(*inc.graph().vertex(k - 1));
     v->setEstimate(prev.estimate() * odo);
     inc.addVertex(std::move(v));
@@ -313,7 +289,8 @@ TEST(Incremental, Se3PoseGraphMatchesBatch) {
     SE3 odo;
     if (k > 0) {
       odo = noisy(truth[k - 1].inverse() * truth[k]);
-      v->setEstimate(static_cast<const types_slam3d::VertexSE3&>(*graph.vertex(k - 1)).estimate() * odo);
+      v->setEstimate(static_cast<const types_slam3d::VertexSE3&>(*graph.vertex(k - 1)).estimate() *
+                     odo);
     }
     inc.addVertex(std::move(v));
     std::vector<std::pair<int, SE3>> edges;

@@ -15,8 +15,8 @@
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/core/marginals.h"
 #include "graphslam/core/optimizer.h"
-#include "graphslam/incremental/incremental_optimizer.h"
 #include "graphslam/drivebot/events.h"
+#include "graphslam/incremental/incremental_optimizer.h"
 
 namespace graphslam::types_drivebot {
 class VertexVehicle;

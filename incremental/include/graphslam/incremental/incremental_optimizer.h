@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "graphslam/core/graph.h"
 
@@ -52,12 +51,12 @@ struct UpdateStats {
   int new_vertices = 0;
   int new_edges = 0;
   int removed_edges = 0;
-  int passes = 0;                 ///< relinearise-and-solve passes
+  int passes = 0;  ///< relinearise-and-solve passes
   bool pass_limit_reached = false;
   int relinearized_vertices = 0;  ///< over all passes
   int relinearized_edges = 0;
-  int eliminated_columns = 0;     ///< vertex columns of the factor ordered and eliminated again
-  bool rebuilt = false;           ///< the graph changed outside the optimizer: full rebuild
+  int eliminated_columns = 0;  ///< vertex columns of the factor ordered and eliminated again
+  bool rebuilt = false;        ///< the graph changed outside the optimizer: full rebuild
 };
 
 /// Error of update(): a factor that is not positive definite (a vertex the edges do not
