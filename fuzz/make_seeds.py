@@ -42,6 +42,9 @@ def main():
     scenario = b"0 0 0|10 0\n20 5\n30 -5\n|5 5\n7 8 1\n-3 4\n"
     (SEEDS / "scenario").mkdir(parents=True, exist_ok=True)
     (SEEDS / "scenario" / "square").write_bytes(scenario)
+    for p in sorted((DATA / "formats").iterdir()):
+        for mode in (0x00, 0x01, 0x02, 0x04):  # detected; TORO; iSAM; detected, 2 threads
+            write("formats", p.stem, mode, p.read_bytes())
 
 
 if __name__ == "__main__":

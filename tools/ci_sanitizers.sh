@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The sanitizer stages of CI (the README's second command runs this after the Release
-# tests), each in a build directory of its own and built with clang++ (the Release build is
-# g++'s, so CI builds the tree with both compilers):
+# The sanitizer stages of CI (.ci/run runs them after the README's two commands), each in a
+# build directory of its own and built with clang++ (the README's build is g++'s, so CI
+# builds the tree with both compilers), in Release (-O1 with assertions compiled about as
+# long on the heaviest files and would run the suites slower):
 #   asan  AddressSanitizer + UndefinedBehaviorSanitizer (any report fails the test) build of
 #         the libraries, the tool, the test suites and the fuzz harnesses (-DGRAPHSLAM_FUZZ=ON,
 #         which brings these sanitizers); ctest -L unit, -L cli (not the dataset label: the
 #         public files are what the Release run is for) and -L fuzz (every harness replays
-#         its regression inputs, then fuzzes for 60 s).
+#         its regression inputs, then fuzzes for GRAPHSLAM_FUZZ_SECONDS, 60 by default).
 #   tsan  ThreadSanitizer build of graphslam_core_tests; ctest -L tsan (the concurrency tests
 #         and the threaded reading, linearisation and observability tests).
 # Each stage prints its wall time. Usage: tools/ci_sanitizers.sh [asan|tsan]...  (default both)
@@ -30,10 +31,11 @@ timed() {
 
 asan() {
   timed "asan configure and build" bash -c "cmake -S . -B build-asan ${common[*]} \
-    -DGRAPHSLAM_FUZZ=ON > /dev/null && cmake --build build-asan -j$jobs"
+    -DGRAPHSLAM_FUZZ=ON -DGRAPHSLAM_FUZZ_SECONDS=${GRAPHSLAM_FUZZ_SECONDS:-60} > /dev/null && \
+    cmake --build build-asan -j$jobs"
   timed "asan ctest -L unit" ctest --test-dir build-asan -j"$jobs" -L unit --output-on-failure
   timed "asan ctest -L cli" ctest --test-dir build-asan -j"$jobs" -L cli -LE dataset --output-on-failure
-  timed "asan ctest -L fuzz" ctest --test-dir build-asan -L fuzz --output-on-failure
+  timed "asan ctest -L fuzz" ctest --test-dir build-asan -j"$jobs" -L fuzz --output-on-failure
 }
 
 tsan() {

@@ -17,6 +17,7 @@ extern "C" int graphslamFuzzG2o(const std::uint8_t* data, std::size_t size);
 extern "C" int graphslamFuzzTrajectory(const std::uint8_t* data, std::size_t size);
 extern "C" int graphslamFuzzNpz(const std::uint8_t* data, std::size_t size);
 extern "C" int graphslamFuzzScenario(const std::uint8_t* data, std::size_t size);
+extern "C" int graphslamFuzzFormats(const std::uint8_t* data, std::size_t size);
 
 namespace {
 
@@ -53,4 +54,8 @@ TEST(Fuzz_Regressions, NpzInputsAreReadOrRefused) {
 
 TEST(Fuzz_Regressions, ScenarioInputsAreReadOrRefused) {
   EXPECT_GT(replay("scenario", graphslamFuzzScenario), 0u);
+}
+
+TEST(Fuzz_Regressions, ToroAndIsamInputsAreReadOrRefused) {
+  EXPECT_GT(replay("formats", graphslamFuzzFormats), 0u);
 }
