@@ -10,6 +10,7 @@
 #include "graphslam/core/io_g2o.h"
 #include "graphslam/simulation/wrong_loop_closures.h"
 #include "input.h"
+#include "output_set.h"
 
 namespace graphslam::apps {
 
@@ -69,19 +70,12 @@ bool parseAddOutliers(const std::vector<std::string>& args, AddOutliersOptions& 
   return true;
 }
 
-}  // namespace
-
-int cmdAddOutliers(const std::vector<std::string>& args) {
-  AddOutliersOptions o;
-  if (!parseAddOutliers(args, o)) return kExitOk;
-  Registries reg;
-  loadRegistries(reg, o.plugins);
-  LoadedInput in = loadInput(o.input, reg.types);
-  if (in.format == "npz")
-    throw UsageError("add-outliers reads .g2o, TORO or iSAM graphs, not " + o.input);
-  Graph& graph = in.graph;
+/// Adds the wrong loop closures of `o` to `graph` and writes the graph and the --list file
+/// (staged in `outputs`, put in place together).
+int addOutliers(const AddOutliersOptions& o, const Registries& reg, Graph& graph,
+                OutputSet& outputs) {
   const auto added = simulation::addWrongLoopClosures(graph, o.wrong);
-  io::saveG2o(o.output, graph, reg.types);
+  io::saveG2o(outputs.staged(o.output), graph, reg.types);
   // writeG2o's layout: vertices, FIX lines, then edges in graph order.
   std::size_t fixed = 0;
   for (const auto& [id, v] : graph.vertices()) fixed += v->fixed() ? 1 : 0;
@@ -94,16 +88,32 @@ int cmdAddOutliers(const std::vector<std::string>& args) {
               << " wrong loop closures found a free pose pair\n";
   }
   if (!o.list.empty()) {
-    writeFileAtomically(o.list, [&](std::ostream& out) {
+    writeFileAtomically(outputs.staged(o.list), [&](std::ostream& out) {
       out << "# line id_i id_j (wrong loop closures in " << o.output << ")\n";
       for (std::size_t k : added.edge_indices) {
         const Edge& e = *graph.edges()[k];
         out << first_edge_line + k << ' ' << e.vertexId(0) << ' ' << e.vertexId(1) << '\n';
       }
     });
-    std::cout << "wrote " << o.list << "\n";
   }
+  outputs.commit();
+  if (!o.list.empty()) std::cout << "wrote " << o.list << "\n";
   return kExitOk;
+}
+
+}  // namespace
+
+int cmdAddOutliers(const std::vector<std::string>& args) {
+  AddOutliersOptions o;
+  if (!parseAddOutliers(args, o)) return kExitOk;
+  Registries reg;
+  loadRegistries(reg, o.plugins);
+  // Both outputs checked before the work and put in place together.
+  OutputSet outputs({o.output, o.list}, {o.input});
+  LoadedInput in = loadInput(o.input, reg.types);
+  if (in.format == "npz")
+    throw UsageError("add-outliers reads .g2o, TORO or iSAM graphs, not " + o.input);
+  return outputs.writeAll([&] { return addOutliers(o, reg, in.graph, outputs); });
 }
 
 }  // namespace graphslam::apps

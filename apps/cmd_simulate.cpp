@@ -14,6 +14,7 @@
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "graphslam/types_slam3d/vertex_se3.h"
+#include "output_set.h"
 
 namespace graphslam::apps {
 
@@ -58,9 +59,31 @@ void checkSimulationSize(const simulation::ManhattanOptions& sim) {
   checkMemory(size.bytes, what);
 }
 
-/// The 3D pose graph of --3d SHAPE: written to `output`, its ground truth to `truth`.
-int simulate3d(const std::string& shape, const simulation::ManhattanOptions& sim,
-               const std::string& output, const std::string& truth) {
+/// Writes `result`'s graph to `output` (staged in `outputs`), prints its size, and when
+/// `truth` is named sets the true estimates with `setTruth(graph)` and writes it there too;
+/// then puts both in place together.
+template <typename Result, typename SetTruth>
+int writeSimulated(Result& result, const std::string& summary, const std::string& output,
+                   const std::string& truth, OutputSet& outputs, SetTruth setTruth) {
+  Registries reg;
+  loadRegistries(reg, {});
+  io::saveG2o(outputs.staged(output), result.graph, reg.types);
+  std::string report = "wrote " + output + ": " + std::to_string(result.graph.numVertices()) +
+                       " vertices, " + std::to_string(result.graph.numEdges()) + " edges (" +
+                       summary + ")\n";
+  if (!truth.empty()) {
+    setTruth(result.graph);
+    io::saveG2o(outputs.staged(truth), result.graph, reg.types);
+    report += "wrote " + truth + " (ground truth)\n";
+  }
+  outputs.commit();
+  std::cout << report;
+  return kExitOk;
+}
+
+/// The options of --3d SHAPE, checked (the shape, the memory it would take).
+simulation::PoseGraph3dOptions options3d(const std::string& shape,
+                                         const simulation::ManhattanOptions& sim) {
   simulation::PoseGraph3dOptions o;
   if (shape == "sphere") {
     o.shape = simulation::PoseGraph3dOptions::Shape::kSphere;
@@ -81,27 +104,42 @@ int simulate3d(const std::string& shape, const simulation::ManhattanOptions& sim
   o.num_poses = sim.num_poses;
   o.num_points = sim.num_landmarks;
   o.seed = sim.seed;
-  Registries reg;
-  loadRegistries(reg, {});
+  return o;
+}
+
+/// The 3D pose graph of `o`: written to `output`, its ground truth to `truth`.
+int simulate3d(const simulation::PoseGraph3dOptions& o, const std::string& output,
+               const std::string& truth, OutputSet& outputs) {
   auto result = simulation::simulatePoseGraph3d(o);
-  io::saveG2o(output, result.graph, reg.types);
-  std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
-            << result.graph.numEdges() << " edges (" << result.num_loop_closures
-            << " loop closures, " << result.num_point_observations << " point observations)\n";
-  if (!truth.empty()) {
+  const std::string summary = std::to_string(result.num_loop_closures) + " loop closures, " +
+                              std::to_string(result.num_point_observations) + " point observations";
+  return writeSimulated(result, summary, output, truth, outputs, [&](Graph& graph) {
     for (int i = 0; i < o.num_poses; ++i) {
-      static_cast<types_slam3d::VertexSE3*>(result.graph.vertex(i))
+      static_cast<types_slam3d::VertexSE3*>(graph.vertex(i))
           ->setEstimate(result.true_poses[static_cast<std::size_t>(i)]);
     }
     for (std::size_t m = 0; m < result.true_points.size(); ++m) {
-      static_cast<types_slam3d::VertexPointXYZ*>(
-          result.graph.vertex(o.num_poses + static_cast<int>(m)))
+      static_cast<types_slam3d::VertexPointXYZ*>(graph.vertex(o.num_poses + static_cast<int>(m)))
           ->setEstimate(result.true_points[m]);
     }
-    io::saveG2o(truth, result.graph, reg.types);
-    std::cout << "wrote " << truth << " (ground truth)\n";
-  }
-  return kExitOk;
+  });
+}
+
+/// The Manhattan world: written to `output`, its ground truth to `truth`.
+int simulate2d(const simulation::ManhattanOptions& sim, const std::string& output,
+               const std::string& truth, OutputSet& outputs) {
+  auto result = simulation::simulateManhattan(sim);
+  const std::string summary = std::to_string(result.num_loop_closures) + " loop closures, " +
+                              std::to_string(result.num_observations) + " landmark observations";
+  return writeSimulated(result, summary, output, truth, outputs, [&](Graph& graph) {
+    for (int i = 0; i < sim.num_poses; ++i) {
+      static_cast<types_slam2d::VertexSE2*>(graph.vertex(i))->setEstimate(result.true_poses[i]);
+    }
+    for (std::size_t k = 0; k < result.true_landmarks.size(); ++k) {
+      static_cast<types_slam2d::VertexXY*>(graph.vertex(sim.num_poses + static_cast<int>(k)))
+          ->setEstimate(result.true_landmarks[k]);
+    }
+  });
 }
 
 }  // namespace
@@ -139,28 +177,19 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (!truth.empty() && truth == output) {
     throw UsageError("--truth and -o name the same file, " + output);
   }
-  if (vm.count("3d")) return simulate3d(shape3d, sim, output, truth);
-  checkSimulationSize(sim);
-  Registries reg;
-  loadRegistries(reg, {});
-  auto result = simulation::simulateManhattan(sim);
-  io::saveG2o(output, result.graph, reg.types);
-  std::cout << "wrote " << output << ": " << result.graph.numVertices() << " vertices, "
-            << result.graph.numEdges() << " edges (" << result.num_loop_closures
-            << " loop closures, " << result.num_observations << " landmark observations)\n";
-  if (!truth.empty()) {
-    for (int i = 0; i < sim.num_poses; ++i) {
-      static_cast<types_slam2d::VertexSE2*>(result.graph.vertex(i))
-          ->setEstimate(result.true_poses[i]);
-    }
-    for (std::size_t k = 0; k < result.true_landmarks.size(); ++k) {
-      static_cast<types_slam2d::VertexXY*>(result.graph.vertex(sim.num_poses + static_cast<int>(k)))
-          ->setEstimate(result.true_landmarks[k]);
-    }
-    io::saveG2o(truth, result.graph, reg.types);
-    std::cout << "wrote " << truth << " (ground truth)\n";
+  // Both files checked before the work (OutputSet also tells other spellings of one file
+  // apart) and put in place together.
+  const bool is3d = vm.count("3d") > 0;
+  simulation::PoseGraph3dOptions o3d;
+  if (is3d) {
+    o3d = options3d(shape3d, sim);
+  } else {
+    checkSimulationSize(sim);
   }
-  return kExitOk;
+  OutputSet outputs({output, truth}, {});
+  return outputs.writeAll([&] {
+    return is3d ? simulate3d(o3d, output, truth, outputs) : simulate2d(sim, output, truth, outputs);
+  });
 }
 
 }  // namespace graphslam::apps

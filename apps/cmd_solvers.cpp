@@ -15,6 +15,7 @@
 #include "graphslam/core/logging.h"
 #include "graphslam/core/optimizer.h"
 #include "input.h"
+#include "output_set.h"
 #include "plotting.h"
 #include "solver_study.h"
 
@@ -315,8 +316,10 @@ void applyReferenceStep(Graph& graph, const homework::PointGroundTruth& truth,
   printErrors("landmarks", before.landmarks, after.landmarks);
 }
 
-void writeCsv(const std::string& csv, const std::vector<Row>& rows, const StudySystem& sys) {
-  writeFileAtomically(csv, [&](std::ostream& out) {
+/// The table as CSV into `outputs`' staged file for `csv`, put in place.
+void writeCsv(const std::string& csv, OutputSet& outputs, const std::vector<Row>& rows,
+              const StudySystem& sys) {
+  writeFileAtomically(outputs.staged(csv), [&](std::ostream& out) {
     out.precision(10);
     out << "solver,ordering,form,n,nnz_matrix,analyze_s,factorize_s,solve_s,total_s,factor_nnz,"
            "residual,max_diff,status,refine_s,max_diff_unrefined\n";
@@ -330,6 +333,7 @@ void writeCsv(const std::string& csv, const std::vector<Row>& rows, const StudyS
           << r.refine << ',' << r.max_diff_unrefined << '\n';
     }
   });
+  outputs.commit();
   std::cout << "wrote " << csv << "\n";
 }
 
@@ -400,6 +404,8 @@ int cmdSolvers(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, o.plugins);
   const std::vector<Spec> specs = solverSpecs(o.list, reg.solvers);
+  // The CSV's folder is checked before the study, which can take minutes.
+  OutputSet outputs({o.csv}, {o.input});
 
   LoadedInput in = loadInput(o.input, reg.types);
   Graph& graph = in.graph;
@@ -417,7 +423,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
   const bool with_truth = !reference.x.empty() && !in.ground_truth.empty();
   const auto initial_positions = positions(graph);
   if (with_truth) applyReferenceStep(graph, in.ground_truth, sys, reference.x);
-  if (!o.csv.empty()) writeCsv(o.csv, rows, sys);
+  if (!o.csv.empty()) writeCsv(o.csv, outputs, rows, sys);
   if (!o.plot_dir.empty()) {
     const std::string stem = std::filesystem::path(o.input).stem().string();
     plotPatterns(o.plot_dir, stem, sys, rows);

@@ -369,7 +369,9 @@ int cmdEval(const std::vector<std::string>& args) {
   if (!o.plot_dir.empty()) {
     std::error_code ec;
     if (!std::filesystem::is_directory(o.plot_dir, ec)) {
-      throw UsageError("--plot: the folder " + o.plot_dir + " does not exist");
+      throw UsageError(std::filesystem::exists(o.plot_dir, ec)
+                           ? "--plot: " + o.plot_dir + " is a file, not a folder"
+                           : "--plot: the folder " + o.plot_dir + " does not exist");
     }
     if (::access(o.plot_dir.c_str(), W_OK) != 0) {
       throw UsageError("--plot: cannot write in " + o.plot_dir + ": " + std::strerror(errno));

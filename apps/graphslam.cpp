@@ -405,6 +405,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   }
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
+  if (!checkFiniteTerms(in, o.output)) {
+    outputs.abort();
+    exitWithoutFreeing(kExitFailed);
+  }
   if (o.outliers.reject) {
     initializeFromKnownInliers(in, graph, o.init, reg.solvers, o.outliers);
   } else {

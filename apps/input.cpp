@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -133,6 +134,8 @@ LoadedInput loadInput(const std::string& path, const TypeRegistry& types,
                       const InputOptions& options) {
   LoadedInput in;
   in.path = path;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
   if (hasExtension(path, ".npz")) {
     homework::CourseworkNpzOptions o;
     o.model = options.npz_model;

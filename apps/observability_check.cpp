@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "graphslam/core/marginals.h"
+#include "graphslam/core/optimizer.h"
 
 namespace graphslam::apps {
 
@@ -95,7 +96,9 @@ std::string failedEdgeNote(std::ptrdiff_t failed_edge, const std::vector<std::si
 bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop_them, int threads,
                         bool quiet) {
   ObservabilityReport r = check(in, types, threads);
+  bool dropped = false;
   for (int round = 0; !r.ok() && drop_them && round < kMaxDropRounds; ++round) {
+    dropped = true;
     std::cout << listWithLines(r, in) << "\n";
     const std::vector<VertexId> ids = r.undeterminedIds();
     const std::size_t edges = drop(in, ids);
@@ -110,8 +113,24 @@ bool checkBeforeSolving(LoadedInput& in, const TypeRegistry& types, bool drop_th
               << "\nnot optimising: --drop-unobservable removes these vertices and their edges\n";
     return false;
   }
+  if (dropped && in.graph.numEdges() == 0) {
+    std::cerr << (in.path.empty() ? std::string("graph") : in.path)
+              << ": nothing is left to optimise after --drop-unobservable (no edge "
+                 "remains): not writing a result\n";
+    return false;
+  }
   if (!quiet && !r.unanchored.empty()) std::cout << r.describeUnanchored() << "\n";
   return true;
+}
+
+bool checkFiniteTerms(LoadedInput& in, const std::string& output) {
+  const NonFiniteEdge bad = findNonFiniteEdge(in.graph);
+  if (bad.index < 0) return true;
+  std::cerr << "optimisation failed: numerical failure (initial chi2 is not finite: "
+            << bad.description << ")\n"
+            << failedEdgeNote(bad.index, in.edge_lines, in.graph.numEdges(), in.path);
+  if (!output.empty()) std::cerr << "not writing " << output << "\n";
+  return false;
 }
 
 bool checkUndampedAtResult(LoadedInput& in, const Summary& summary, const SolverRegistry& solvers) {

@@ -44,6 +44,12 @@ void printObservability(LoadedInput& in, const TypeRegistry& types);
                                     const std::vector<std::size_t>& edge_lines,
                                     std::size_t num_edges);
 
+/// Before the initial guess: whether every edge's term is finite at the input's estimates.
+/// If not, reports the first edge that is not (its vertices, its line, why: a measurement
+/// or information too large for double arithmetic) as the optimizer would, and returns
+/// false; initialising from such an edge would spread the overflow to every vertex.
+[[nodiscard]] bool checkFiniteTerms(LoadedInput& in, const std::string& output);
+
 /// "that edge is on line N of INPUT\n" for the edge a failed optimisation names
 /// (Summary::failed_edge, an index into the graph's edges; -1: none), or empty.
 [[nodiscard]] std::string failedEdgeNote(std::ptrdiff_t failed_edge,

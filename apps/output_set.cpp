@@ -23,7 +23,9 @@ namespace {
 /// The path in a form that compares equal for the same file (its folder resolved).
 std::string canonical(const std::string& path) {
   std::error_code ec;
-  const fs::path p = fs::weakly_canonical(fs::path(path), ec);
+  // Absolute first: weakly_canonical leaves a relative path whose first element does not
+  // exist relative, so "x.g2o" and "./x.g2o" would differ.
+  const fs::path p = fs::weakly_canonical(fs::absolute(fs::path(path), ec), ec);
   return ec ? path : p.string();
 }
 /// The digits at the start of `s` as a process id, -1 when there are none; `rest` is what

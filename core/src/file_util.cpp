@@ -27,8 +27,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
       errno = 0;
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
       if (!out) {
-        throw Error("cannot write '" + path + "': cannot create temporary file '" + tmp +
-                    "': " + reason());
+        throw Error("cannot write '" + path + "': " + reason());
       }
       write(out);
       out.flush();

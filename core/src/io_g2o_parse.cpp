@@ -48,7 +48,7 @@ void LineParser::parse(Chunk& chunk) {
       out.line = line_no;
       out.bad = out.fatal = true;
       out.error = "the line is longer than " + std::to_string(options_.max_line_bytes) +
-                  " bytes (LoadOptions::max_line_bytes): not a .g2o line";
+                  " bytes: not a .g2o line";
       break;
     }
     if (auto hash = view.find('#'); hash != std::string_view::npos) view = view.substr(0, hash);

@@ -183,24 +183,24 @@ std::string failureMessage(const Optimizer::Impl& im, const Graph& graph,
   return msg;
 }
 
-/// Why the initial objective is not finite: the first active edge whose term is not (into
-/// summary.failed_edge, as an index into graph.edges()), its vertices, and whether its error
-/// is not finite or a finite error overflows e^T Omega e.
-std::string nonFiniteChi2Message(Graph& graph, Summary& summary) {
+}  // namespace
+
+NonFiniteEdge findNonFiniteEdge(Graph& graph) {
   const auto& edges = graph.edges();
   std::size_t count = 0;
-  std::string first;
+  NonFiniteEdge found;
   for (std::size_t k = 0; k < edges.size(); ++k) {
     Edge& e = *edges[k];
     if (!e.active()) continue;
     e.computeError();
     if (std::isfinite(e.robustChi2())) continue;
     if (++count > 1) continue;
-    summary.failed_edge = static_cast<std::ptrdiff_t>(k);
+    found.index = static_cast<std::ptrdiff_t>(k);
     std::string ids;
     for (std::size_t s = 0; s < e.numVertices(); ++s) {
       ids += (s == 0 ? "" : ", ") + std::to_string(e.vertexId(s));
     }
+    std::string& first = found.description;
     first = (e.numVertices() == 1 ? "the edge of vertex " : "the edge joining vertices ") + ids;
     const int d = e.dimension();
     const Eigen::Map<const Eigen::VectorXd> err(e.errorData(), d);
@@ -217,11 +217,9 @@ std::string nonFiniteChi2Message(Graph& graph, Summary& summary) {
                formatDouble(info.cwiseAbs().maxCoeff()) + ")";
     }
   }
-  std::string msg = "initial chi2 is not finite: " + first;
-  if (count > 1) msg += " (and " + std::to_string(count - 1) + " more edges)";
-  return msg;
+  if (count > 1) found.description += " (and " + std::to_string(count - 1) + " more edges)";
+  return found;
 }
-}  // namespace
 
 // The structure, the gauge of every unanchored component, the initial objective and the
 // solver's symbolic analysis. Returns false when there is nothing to iterate (the
@@ -277,7 +275,9 @@ bool Optimizer::setUp(Summary& summary, detail::GaugeFix& gauge) {
   }
   if (!std::isfinite(summary.initial_cost)) {
     summary.status = TerminationStatus::kNumericalFailure;
-    summary.message = nonFiniteChi2Message(graph_, summary);
+    const NonFiniteEdge bad = findNonFiniteEdge(graph_);
+    summary.failed_edge = bad.index;
+    summary.message = "initial chi2 is not finite: " + bad.description;
     return false;
   }
   if (!im.analyzed) {

@@ -91,4 +91,29 @@ check 2 "long.g2o:2: the line is longer than 1048576 bytes" "$t" info long.g2o
 { printf '0 0 0 0 0 0 0 1\n'; head -c 1100000 /dev/zero | tr '\0' 1; } > long.tum
 check 2 "long.tum:2: the line is longer than 1048576 bytes" "$t" eval ape long.tum long.tum
 
+# A measurement whose term overflows is named before the default initialisation, which
+# would spread it to every vertex (and an observability report would blame them all).
+printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n%s\nEDGE_SE2 1 2 1e300 0 0 1 0 0 1 0 1\n' "$edge" > huge.g2o
+check 1 "initial chi2 is not finite: the edge joining vertices 1, 2: its error is finite .largest entry 1e.300. but e.T Omega e overflows.*that edge is on line 5 of huge.g2o.*not writing huge_out.g2o" \
+  "$t" optimize huge.g2o -o huge_out.g2o
+# --drop-unobservable that would leave nothing to optimise writes no empty result.
+printf 'VERTEX_SE2 0 0 0 0\nVERTEX_XY 1 1 0\nEDGE_BEARING_SE2_XY 0 1 0 1\n' > nothing_left.g2o
+check 2 "nothing is left to optimise after --drop-unobservable" \
+  "$t" optimize nothing_left.g2o --init none --drop-unobservable -o nothing_out.g2o
+[ ! -e huge_out.g2o ] && [ ! -e nothing_out.g2o ] || { echo "FAILED: output written"; failures=$((failures + 1)); }
+
+# A folder given as the input, a file given as eval's plot folder.
+check 2 "$PWD: is a folder, not a file" "$t" optimize "$PWD" -o folder_out.g2o
+printf '0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n' > two.tum
+check 2 "--plot: two.tum is a file, not a folder" "$t" eval ape two.tum two.tum --plot two.tum
+
+# One file under two spellings is one file; a second output's missing folder leaves no
+# first output (simulate's --truth, add-outliers' --list).
+"$t" simulate --poses 20 -o in20.g2o > /dev/null
+check 2 "is named for two outputs" "$t" simulate --poses 20 -o sim.g2o --truth ./sim.g2o
+check 2 "is named for two outputs" "$t" optimize in20.g2o -o out2.g2o --marginals ./out2.g2o
+check 2 "nodir/t.g2o: the folder nodir does not exist" "$t" simulate --poses 20 -o sim.g2o --truth nodir/t.g2o
+check 2 "nodir/l.txt: the folder nodir does not exist" "$t" add-outliers in20.g2o -o outl.g2o --count 1 --list nodir/l.txt
+[ ! -e sim.g2o ] && [ ! -e out2.g2o ] && [ ! -e outl.g2o ] || { echo "FAILED: first output written: $(ls)"; failures=$((failures + 1)); }
+
 [ "$failures" -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }

@@ -135,6 +135,17 @@ struct Summary {
   [[nodiscard]] std::string report() const;
 };
 
+/// The first active edge whose term e^T Omega e (through its kernel) is not finite at the
+/// current estimates.
+struct NonFiniteEdge {
+  std::ptrdiff_t index = -1;  ///< into graph.edges(); -1 when every term is finite
+  /// Its vertices and whether its error is not finite or a finite error overflows
+  /// e^T Omega e, then how many more edges are not finite.
+  std::string description;
+};
+/// Computes every active edge's error (the graph's edges keep them).
+[[nodiscard]] NonFiniteEdge findNonFiniteEdge(Graph& graph);
+
 /// Sparse nonlinear least squares over a Graph: minimises sum_e e^T Omega e.
 class Optimizer {
  public:
