@@ -17,6 +17,7 @@
 #include "graphslam/drivebot/scenario.h"
 #include "graphslam/drivebot/simulator.h"
 #include "graphslam/drivebot/slam_system.h"
+#include "output_set.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -410,16 +411,6 @@ void printSettings(const Setup& setup, const Scenario& scenario) {
   std::fflush(stdout);
 }
 
-/// Creates `out_dir` before the run, so a long run does not end in an unwritable place.
-void createOutputDirectory(const std::string& out_dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec || !std::filesystem::is_directory(out_dir)) {
-    throw Error("cannot create the output directory '" + out_dir + "'" +
-                (ec ? ": " + ec.message() : ""));
-  }
-}
-
 /// Prints why a run has no results and returns false, or returns true.
 bool runSucceeded(const RunResult& result) {
   if (result.failed) {
@@ -476,7 +467,9 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     if (level >= LogLevel::kWarning) std::fprintf(stderr, "%s: %s\n", toString(level), msg.c_str());
   });
   printSettings(setup, scenario);
-  createOutputDirectory(out_dir);
+  // Created before the run, so a long run does not end in an unwritable place; the results
+  // are staged in it and put in place together when all are written.
+  OutputFolder outputs(out_dir);
   Simulator simulator(scenario, setup.sim);
   DriveBotSlamSystem system(reg.solvers, setup.slam);
   if (vm.count("quiet") == 0) setup.run.progress = printProgress;
@@ -484,15 +477,22 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   if (!runSucceeded(result)) return kExitFailed;
 
   printDrivebotReport(scenario, result, setup.sim.enable_laser);
-  writeDrivebotResults(out_dir, scenario, result, system.graph(), reg.types);
+  writeDrivebotResults(outputs.staged(), scenario, result, system.graph(), reg.types);
   if (vm.count("plot")) {
     std::string title = scenario.name;
     if (!setup.description.empty()) title = setup.description;
-    std::vector<std::string> args{out_dir, title};
+    std::vector<std::string> args{outputs.staged(), title};
     if (vm.count("log-chi2")) args.emplace_back("--log-chi2");
+    // The plot script names the pictures it has nothing to draw for in this list.
+    ::setenv("GRAPHSLAM_NOT_WRITTEN_LIST", outputs.notWrittenList().c_str(), 1);
     runPlotScript("plot_drivebot.py", args);
-    std::printf("plots:         %s/*.png\n", out_dir.c_str());
   }
+  outputs.commit();
+  std::printf(
+      "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv%s, "
+      "final.g2o}\n",
+      out_dir.c_str(), result.loop_closure ? ", loop_closure.csv, loop_closure_vehicle.csv" : "");
+  if (vm.count("plot")) std::printf("plots:         %s/*.png\n", out_dir.c_str());
   return kExitOk;
 }
 

@@ -270,10 +270,6 @@ void writeDrivebotResults(const std::string& out_dir, const Scenario& scenario, 
     writeLoopClosureVehicle(out_dir + "/loop_closure_vehicle.csv", *r.loop_closure);
   }
   io::saveG2o(out_dir + "/final.g2o", graph, types);
-  std::printf(
-      "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv%s, "
-      "final.g2o}\n",
-      out_dir.c_str(), r.loop_closure ? ", loop_closure.csv, loop_closure_vehicle.csv" : "");
 }
 
 }  // namespace graphslam::apps

@@ -20,8 +20,8 @@ void printDrivebotReport(const drivebot::Scenario& scenario, const drivebot::Run
                          bool laser);
 
 /// Writes steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv,
-/// loop_closure.csv (after a loop-closure snapshot) and final.g2o into `out_dir`, and
-/// prints the line naming them.
+/// loop_closure.csv and loop_closure_vehicle.csv (after a loop-closure snapshot) and
+/// final.g2o into `out_dir`.
 void writeDrivebotResults(const std::string& out_dir, const drivebot::Scenario& scenario,
                           const drivebot::RunResult& r, const Graph& graph,
                           const TypeRegistry& types);

@@ -9,8 +9,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string_view>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "cli_common.h"
 #include "graphslam/core/error.h"
@@ -63,14 +66,20 @@ bool staleTemporary(const std::string& entry, const std::string& name) {
 }
 
 /// Removes what a run that was killed (SIGKILL, power loss) while writing `path` left
-/// beside it: its temporary files never hold a finished output.
+/// beside it: its temporary files (or staging folders) never hold a finished output.
 void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
   std::error_code ec;
+  std::vector<fs::path> stale;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string entry = it->path().filename().string();
-    if (staleTemporary(entry, name)) fs::remove(it->path(), ec);
+    if (staleTemporary(entry, name)) stale.push_back(it->path());
   }
+  for (const fs::path& p : stale) fs::remove_all(p, ec);
 }
+
+/// The name of an OutputFolder's staging folder, ".graphslam-PID-staging".
+constexpr const char* kStagingName = "staging";
+constexpr const char* kNotWrittenName = ".not-written";
 
 }  // namespace
 
@@ -151,6 +160,62 @@ int OutputSet::writeAll(const std::function<int()>& write) {
 
 void OutputSet::abort() {
   for (const std::string& s : staged_) std::remove(s.c_str());
+}
+
+OutputFolder::OutputFolder(std::string dir) : dir_(std::move(dir)) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_)) {
+    throw Error("cannot create the output directory '" + dir_ + "'" +
+                (ec ? ": " + ec.message() : std::string(": a file of that name exists")));
+  }
+  if (::access(dir_.c_str(), W_OK) != 0) {
+    throw Error("cannot write in the output directory '" + dir_ + "': " + std::strerror(errno));
+  }
+  removeStaleTemporaries(dir_, kStagingName);
+  staged_ =
+      (fs::path(dir_) / (".graphslam-" + std::to_string(::getpid()) + "-" + kStagingName)).string();
+  fs::remove_all(staged_, ec);
+  if (!fs::create_directory(staged_, ec)) {
+    throw Error("cannot create a folder in the output directory '" + dir_ + "': " + ec.message());
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  std::error_code ec;
+  if (!done_) fs::remove_all(staged_, ec);
+}
+
+std::string OutputFolder::notWrittenList() const {
+  return (fs::path(staged_) / kNotWrittenName).string();
+}
+
+void OutputFolder::commit() {
+  std::error_code ec;
+  std::vector<std::string> not_written;
+  if (std::ifstream list(notWrittenList()); list) {
+    for (std::string name; std::getline(list, name);) {
+      if (!name.empty() && name.find('/') == std::string::npos) not_written.push_back(name);
+    }
+    list.close();
+    fs::remove(notWrittenList(), ec);
+  }
+  std::vector<fs::path> entries;  // listed first: the folder changes as they move out
+  for (fs::directory_iterator it(staged_, ec), end; !ec && it != end; it.increment(ec)) {
+    entries.push_back(it->path());
+  }
+  std::string failed;
+  for (const fs::path& entry : entries) {
+    const fs::path target = fs::path(dir_) / entry.filename();
+    std::error_code move_ec;
+    if (fs::is_directory(entry)) fs::remove_all(target, move_ec);
+    fs::rename(entry, target, move_ec);
+    if (move_ec) failed += (failed.empty() ? "" : ", ") + target.string();
+  }
+  for (const std::string& name : not_written) fs::remove(fs::path(dir_) / name, ec);
+  done_ = true;
+  fs::remove_all(staged_, ec);
+  if (!failed.empty()) throw Error("could not put the outputs in place: " + failed);
 }
 
 }  // namespace graphslam::apps

@@ -41,4 +41,33 @@ class OutputSet {
   bool done_ = false;
 };
 
+/// All or nothing for a command whose outputs are the files it writes into one folder (the
+/// folder is created; files of other names in it are left alone): they are written into a
+/// hidden staging folder inside it and moved into it together at the end.
+class OutputFolder {
+ public:
+  /// Creates `dir` (and its parents) and the staging folder in it, and removes the staging
+  /// folders that killed runs (no longer running) left. Throws Error naming the folder.
+  explicit OutputFolder(std::string dir);
+  /// Removes the staging folder of an unfinished run.
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  /// The staging folder: where the outputs are written now.
+  [[nodiscard]] const std::string& staged() const { return staged_; }
+  /// The list file in the staging folder where the writers name outputs this run did not
+  /// make (a plot with nothing to draw), one file name per line: commit() removes files of
+  /// those names that an earlier run left in the folder.
+  [[nodiscard]] std::string notWrittenList() const;
+  /// Moves every file of the staging folder into the folder (replacing files of the same
+  /// names), removes the files its not-written list names, then the staging folder.
+  void commit();
+
+ private:
+  std::string dir_;
+  std::string staged_;
+  bool done_ = false;
+};
+
 }  // namespace graphslam::apps

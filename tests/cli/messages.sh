@@ -116,4 +116,18 @@ check 2 "nodir/t.g2o: the folder nodir does not exist" "$t" simulate --poses 20 
 check 2 "nodir/l.txt: the folder nodir does not exist" "$t" add-outliers in20.g2o -o outl.g2o --count 1 --list nodir/l.txt
 [ ! -e sim.g2o ] && [ ! -e out2.g2o ] && [ ! -e outl.g2o ] || { echo "FAILED: first output written: $(ls)"; failures=$((failures + 1)); }
 
+# DriveBot's results are staged in their folder and put in place together: a failing plot
+# leaves none of them; a staging folder that a killed run left is removed by the next run.
+printf '#!/bin/sh\ncase "$1" in -c) exec /usr/bin/python3 "$@";; esac\necho "ValueError: boom" >&2\nexit 1\n' > failing_python
+chmod +x failing_python
+if /usr/bin/python3 -c 'import matplotlib' 2> /dev/null; then
+  check 2 "plot script plot_drivebot.py failed .exit 1.: ValueError: boom" \
+    env GRAPHSLAM_PYTHON=./failing_python "$t" drivebot --experiment q1_b --max-steps 100 --out db --plot -q
+  [ -z "$(ls -A db)" ] || { echo "FAILED: db holds $(ls -A db)"; failures=$((failures + 1)); }
+fi
+mkdir -p db/.graphslam-999999999-staging
+"$t" drivebot --experiment q1_b --max-steps 100 --out db -q > /dev/null
+[ "$(ls -A db | tr '\n' ' ')" = "final.g2o graph_stats.csv landmarks.csv scenario.csv steps.csv summary.csv " ] ||
+  { echo "FAILED: db holds $(ls -A db)"; failures=$((failures + 1)); }
+
 [ "$failures" -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }

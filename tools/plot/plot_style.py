@@ -45,9 +45,16 @@ def suptitle(fig, text, fontsize=9):
 
 def not_drawn(name, why, path=None):
     """Says that plot `name` was not drawn, and why (no empty placeholder figures); removes
-    `path`, a picture of that name left by an earlier run, so none is taken for this one's."""
+    `path`, a picture of that name left by an earlier run, so none is taken for this one's.
+    When the tool stages its outputs, it names a list file in GRAPHSLAM_NOT_WRITTEN_LIST:
+    the picture's name goes there, and the tool removes the earlier one when it puts the
+    new outputs in place."""
     if path and os.path.exists(path):
         os.remove(path)
+    listing = os.environ.get("GRAPHSLAM_NOT_WRITTEN_LIST")
+    if path and listing:
+        with open(listing, "a") as f:
+            f.write(os.path.basename(path) + "\n")
     print(f"  {name} not drawn: {why}")
 
 
