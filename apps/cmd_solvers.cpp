@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.h"
@@ -337,9 +338,10 @@ void writeCsv(const std::string& csv, OutputSet& outputs, const std::vector<Row>
   std::cout << "wrote " << csv << "\n";
 }
 
-/// Writes the sparsity patterns of H, J and every factor into DIR/data and draws them.
-void plotPatterns(const std::string& plot_dir, const std::string& stem, const StudySystem& sys,
-                  const std::vector<Row>& rows) {
+/// Writes the sparsity patterns of H, J and every factor into DIR/data and draws them into
+/// DIR; returns how many pictures.
+std::size_t plotPatterns(const std::string& plot_dir, const std::string& stem,
+                         const StudySystem& sys, const std::vector<Row>& rows) {
   namespace fs = std::filesystem;
   fs::create_directories(fs::path(plot_dir) / "data");
   std::vector<std::string> plot_args{plot_dir};
@@ -371,7 +373,7 @@ void plotPatterns(const std::string& plot_dir, const std::string& stem, const St
         stem + ": factor of " + r.solver + ", " + r.ordering + " ordering", false, r.factor_nnz);
   }
   runPlotScript("plot_spy.py", plot_args);
-  std::cout << "wrote " << plot_args.size() - 1 << " pictures into " << plot_dir << "\n";
+  return plot_args.size() - 1;
 }
 
 /// Loads the input and linearises it where --at says (optimising first at the optimum);
@@ -404,8 +406,11 @@ int cmdSolvers(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, o.plugins);
   const std::vector<Spec> specs = solverSpecs(o.list, reg.solvers);
-  // The CSV's folder is checked before the study, which can take minutes.
+  // The CSV's folder is checked (and the picture folder created) before the study, which
+  // can take minutes; the pictures are staged and put in place together.
   OutputSet outputs({o.csv}, {o.input});
+  std::optional<OutputFolder> pictures;
+  if (!o.plot_dir.empty()) pictures.emplace(o.plot_dir);
 
   LoadedInput in = loadInput(o.input, reg.types);
   Graph& graph = in.graph;
@@ -424,14 +429,17 @@ int cmdSolvers(const std::vector<std::string>& args) {
   const auto initial_positions = positions(graph);
   if (with_truth) applyReferenceStep(graph, in.ground_truth, sys, reference.x);
   if (!o.csv.empty()) writeCsv(o.csv, outputs, rows, sys);
-  if (!o.plot_dir.empty()) {
+  if (pictures) {
     const std::string stem = std::filesystem::path(o.input).stem().string();
-    plotPatterns(o.plot_dir, stem, sys, rows);
+    const std::size_t count = plotPatterns(pictures->staged(), stem, sys, rows);
     if (with_truth) {
-      plotPoints((std::filesystem::path(o.plot_dir) / (stem + "_estimate.png")).string(),
+      plotPoints((std::filesystem::path(pictures->staged()) / (stem + "_estimate.png")).string(),
                  stem + ": before and after the reference step (" + reference.name + ")", graph,
                  initial_positions, in.ground_truth);
     }
+    pictures->commit();
+    std::cout << "wrote " << count << " sparsity pictures"
+              << (with_truth ? " and the estimate" : "") << " into " << o.plot_dir << "\n";
   }
   return kExitOk;
 }

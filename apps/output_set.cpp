@@ -77,6 +77,27 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
   for (const fs::path& p : stale) fs::remove_all(p, ec);
 }
 
+/// Moves the entries of folder `from` into folder `to`: files replace files of the same
+/// name, a folder is merged into the folder of its name. Appends what could not be moved to
+/// `failed`.
+void moveEntries(const fs::path& from, const fs::path& to, std::string& failed) {
+  std::error_code ec;
+  std::vector<fs::path> entries;  // listed first: the folder changes as they move out
+  for (fs::directory_iterator it(from, ec), end; !ec && it != end; it.increment(ec)) {
+    entries.push_back(it->path());
+  }
+  for (const fs::path& entry : entries) {
+    const fs::path target = to / entry.filename();
+    std::error_code move_ec;
+    if (fs::is_directory(entry) && fs::is_directory(target)) {
+      moveEntries(entry, target, failed);
+      continue;
+    }
+    fs::rename(entry, target, move_ec);
+    if (move_ec) failed += (failed.empty() ? "" : ", ") + target.string();
+  }
+}
+
 /// The name of an OutputFolder's staging folder, ".graphslam-PID-staging".
 constexpr const char* kStagingName = "staging";
 constexpr const char* kNotWrittenName = ".not-written";
@@ -200,18 +221,8 @@ void OutputFolder::commit() {
     list.close();
     fs::remove(notWrittenList(), ec);
   }
-  std::vector<fs::path> entries;  // listed first: the folder changes as they move out
-  for (fs::directory_iterator it(staged_, ec), end; !ec && it != end; it.increment(ec)) {
-    entries.push_back(it->path());
-  }
   std::string failed;
-  for (const fs::path& entry : entries) {
-    const fs::path target = fs::path(dir_) / entry.filename();
-    std::error_code move_ec;
-    if (fs::is_directory(entry)) fs::remove_all(target, move_ec);
-    fs::rename(entry, target, move_ec);
-    if (move_ec) failed += (failed.empty() ? "" : ", ") + target.string();
-  }
+  moveEntries(staged_, dir_, failed);
   for (const std::string& name : not_written) fs::remove(fs::path(dir_) / name, ec);
   done_ = true;
   fs::remove_all(staged_, ec);

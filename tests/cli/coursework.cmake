@@ -35,7 +35,7 @@ step("chi2: +8623.3224[0-9]* -> 1555.1896[0-9]*\niterations: +10"
 # each picture's title gives the solver table's nnz(factor).
 execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE no_mpl OUTPUT_QUIET ERROR_QUIET)
 if(NOT no_mpl)
-  step("block-llt +amd +H .* 42880 .*wrote 3 pictures into spy"
+  step("block-llt +amd +H .* 42880 .*wrote 3 sparsity pictures and the estimate into spy"
        ${TOOL} solvers ${seeds}/2d_linear_loop.npz --solvers block-llt:amd --repeats 1 --plot spy)
   file(STRINGS ${WORK}/spy/data/2d_linear_loop_block-llt_amd.csv head LIMIT_COUNT 1)
   if(NOT head MATCHES "^800,800,42880,")
