@@ -554,6 +554,12 @@ int cmdConvert(const std::vector<std::string>& args) {
       return convertToG2o(input, output, text_format, reg);
     }
   }
+  if (from == "auto" && (endsWith(input, ".tum") || endsWith(input, ".kitti"))) {
+    throw UsageError(input +
+                     " is named as a trajectory: convert reads .g2o, TORO and iSAM graphs and 3xN "
+                     "relative-pose matrices (give --from matrix to read it as one); eval reads "
+                     "trajectories");
+  }
   if (!endsWith(output, ".g2o")) throw UsageError("a relative-pose matrix converts to a .g2o file");
   homework::RelativePoseGraphOptions options;
   options.last_column_closes_loop = vm.count("no-loop-closure") == 0;

@@ -107,6 +107,9 @@ check 2 "$PWD: is a folder, not a file" "$t" optimize "$PWD" -o folder_out.g2o
 printf '0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n' > two.tum
 check 2 "--plot: two.tum is a file, not a folder" "$t" eval ape two.tum two.tum --plot two.tum
 
+# A trajectory given to convert is named as one, not read as a matrix.
+check 2 "two.tum is named as a trajectory: convert reads .g2o, TORO and iSAM graphs" "$t" convert two.tum two.g2o
+
 # One file under two spellings is one file; a second output's missing folder leaves no
 # first output (simulate's --truth, add-outliers' --list).
 "$t" simulate --poses 20 -o in20.g2o > /dev/null
