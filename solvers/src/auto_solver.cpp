@@ -55,9 +55,9 @@ class AutoSolver final : public LinearSolver {
   }
   Ordering ordering() const override { return analyzed_ ? label_ : Ordering::kDefault; }
 
-  /// Large block systems factorised by supernodal CHOLMOD ask for H in the chosen
-  /// order, postordered, as its lower triangle: CHOLMOD then factorises H's own arrays
-  /// instead of a permuted copy made in every factorisation (as large as H itself).
+  /// Systems factorised by supernodal CHOLMOD ask for H in the chosen order,
+  /// postordered, as its lower triangle: CHOLMOD then factorises H's own arrays instead
+  /// of a permuted copy made in every factorisation (as large as H itself).
   std::vector<int> preferredBlockOrder(const SparseStructure& s) override {
     planned_order_.clear();
     planned_for_ = {};
@@ -66,7 +66,7 @@ class AutoSolver final : public LinearSolver {
     plan(s, g);
     planned_for_ = s;  // analyze() of this same structure keeps the plan
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    if (plan_.supernodal && plan_.blocks) {
+    if (plan_.supernodal) {
       planned_order_ = detail::postorderedBlocks(s, g, plan_.chosen.perm);
       return planned_order_;
     }
