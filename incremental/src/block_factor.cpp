@@ -14,6 +14,9 @@ using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
 using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
 
+// Largest vertex dimension whose back-substitution works in a stack buffer.
+constexpr int kMaxStackDim = 16;
+
 void ColumnBuilder::begin(int p, const std::vector<int>& dims) {
   for (int q : rows_) slot_of_[q] = -1;
   if (slot_of_.size() < dims.size()) slot_of_.resize(dims.size(), -1);
@@ -371,12 +374,24 @@ double BlockFactor::solveNode(int p) {
         ConstVectorMap(x_.data() + starts_[q], dims_[q]);
   }
   const ConstMatrixMap panel(c.panel.data(), c.height, dp);
-  Eigen::VectorXd r = ConstVectorMap(y_.data() + starts_[p], dp);
-  r.noalias() -= panel.bottomRows(c.height - dp).transpose() * gathered_;
-  panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(r);
+  // Vertex dimensions are small: r lives on the stack (no allocation per solved node).
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStackDim, 1>;
+  Small r;
+  Eigen::VectorXd heap;  // only for a vertex of more than kMaxStackDim dimensions
+  Eigen::Map<Eigen::VectorXd> rv = [&] {
+    if (dp <= kMaxStackDim) {
+      r.resize(dp);
+      return Eigen::Map<Eigen::VectorXd>(r.data(), dp);
+    }
+    heap.resize(dp);
+    return Eigen::Map<Eigen::VectorXd>(heap.data(), dp);
+  }();
+  rv = ConstVectorMap(y_.data() + starts_[p], dp);
+  rv.noalias() -= panel.bottomRows(c.height - dp).transpose() * gathered_;
+  panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(rv);
   Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
-  const double change = (r - x).cwiseAbs().maxCoeff();
-  x = r;
+  const double change = (rv - x).cwiseAbs().maxCoeff();
+  x = rv;
   return change;
 }
 

@@ -65,8 +65,10 @@ struct IncrementalOptimizer::Impl {
   bool ready = false;  // a successful update() made the factor
   bool built = false;  // an update() ran
   long update_count = 0;
-  std::vector<std::pair<int, std::vector<double>>> undo;  // estimates before this update
-  std::vector<char> remembered;                           // per variable: in the undo log
+  // Estimates before this update: the variables and their estimate data, back to back.
+  std::vector<int> undo;
+  std::vector<double> undo_data;
+  std::vector<char> remembered;  // per variable: in the undo log
   std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
 };
 
@@ -215,8 +217,9 @@ bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vect
     }
     touched = relinearizeVertices(far);
   }
-  for (const auto& entry : undo) remembered[entry.first] = 0;
+  for (int var : undo) remembered[var] = 0;
   undo.clear();
+  undo_data.clear();
   version = graph.structureVersion();
   ready = true;
   return true;
@@ -384,9 +387,11 @@ void IncrementalOptimizer::Impl::applySteps(const std::vector<int>& nodes, doubl
 void IncrementalOptimizer::Impl::remember(int var) {
   if (remembered[var] != 0) return;
   remembered[var] = 1;
-  std::vector<double> data(vars[var].vertex->estimateDataDimension());
-  vars[var].vertex->getEstimateData(data.data());
-  undo.emplace_back(var, std::move(data));
+  const Vertex& v = *vars[var].vertex;
+  const std::size_t at = undo_data.size();
+  undo_data.resize(at + static_cast<std::size_t>(v.estimateDataDimension()));
+  v.getEstimateData(undo_data.data() + at);
+  undo.push_back(var);
 }
 
 void IncrementalOptimizer::Impl::restoreAfterFailure(int node) {
@@ -396,8 +401,14 @@ void IncrementalOptimizer::Impl::restoreAfterFailure(int node) {
                     std::to_string(v.id()) +
                     ": its edges do not determine it (or an information matrix is not positive "
                     "definite); the estimates are those before the update";
-  for (auto& [var, data] : undo) vars[var].vertex->setEstimateData(data.data());
+  const double* data = undo_data.data();
+  for (int var : undo) {
+    Vertex& v = *vars[var].vertex;
+    v.setEstimateData(data);
+    data += v.estimateDataDimension();
+  }
   undo.clear();
+  undo_data.clear();
   needs_rebuild = true;
   ready = false;
 }
