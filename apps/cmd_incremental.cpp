@@ -23,8 +23,8 @@ namespace {
 
 constexpr const char* kIncrementalUsage =
     "usage: graphslam incremental IN.g2o [-o OUT.g2o] [--stats FILE.csv] [--plot FILE.png]\n"
-    "                             [--relinearize-threshold X] [--check-every N] [--refine X]\n"
-    "                             [--plugin LIB]...\n"
+    "                             [--relinearize-threshold X] [--backsubstitution-fraction F]\n"
+    "                             [--check-every N] [--refine X] [--plugin LIB]...\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
     "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
@@ -59,6 +59,10 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       po::value(&opt.relinearize_threshold)->default_value(opt.relinearize_threshold),
       "relinearise a vertex when an entry of its step from its linearisation point exceeds "
       "this (metres, radians)")(
+      "backsubstitution-fraction",
+      po::value(&opt.backsubstitution_fraction)->default_value(opt.backsubstitution_fraction),
+      "back-substitution solves a vertex again only when a step it depends on changed by more "
+      "than this fraction of the relinearisation threshold (iSAM2's wildfire; 0: always)")(
       "check-every", po::value(&o.check_every)->default_value(0),
       "every N steps, compare the estimates with a batch solve of the same graph (outside the "
       "timed part; 0: never)")(
@@ -77,6 +81,9 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   if (o.input.empty()) throw UsageError("incremental needs an input file IN.g2o");
   if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
+  }
+  if (!(opt.backsubstitution_fraction >= 0 && std::isfinite(opt.backsubstitution_fraction))) {
+    throw UsageError("--backsubstitution-fraction must be a finite number >= 0");
   }
   if (o.check_every < 0) throw UsageError("--check-every must be at least 0 (0: never)");
   if (!(o.replay.refine_threshold >= 0 && std::isfinite(o.replay.refine_threshold))) {
@@ -101,9 +108,11 @@ double percentile(const std::vector<double>& sorted, double p) {
 }
 
 void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
-  std::printf("replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g\n",
-              r.steps.size(), r.pose_tag.c_str(), r.num_landmarks,
-              o.replay.optimizer.relinearize_threshold);
+  std::printf(
+      "replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g, back-substitution "
+      "fraction %g\n",
+      r.steps.size(), r.pose_tag.c_str(), r.num_landmarks, o.replay.optimizer.relinearize_threshold,
+      o.replay.optimizer.backsubstitution_fraction);
   if (r.initialised_from_file > 0 || r.gaps > 0) {
     std::printf(
         "  file's estimate kept: %d vertices their first edge does not determine, %d poses "

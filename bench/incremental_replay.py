@@ -8,6 +8,7 @@ step) and compares its end with the batch optimum. Prints one markdown table.
 
 usage: bench/incremental_replay.py GRAPHSLAM [--data DIR] [--files a,b] [--timeout S]
                                    [--relinearize-threshold X] [--refine X]
+                                   [--backsubstitution-fraction F]
                                    [--isam2 PATH [--isam2-arg A]...]
 
 GRAPHSLAM is the graphslam binary; --data the datasets folder (default $GRAPHSLAM_DATA, else
@@ -120,6 +121,7 @@ def main():
     ap.add_argument("--files", default=",".join(FILES), help="comma-separated names without .g2o")
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds per run")
     ap.add_argument("--relinearize-threshold", type=float, default=None)
+    ap.add_argument("--backsubstitution-fraction", type=float, default=None)
     ap.add_argument("--refine", type=float, default=1e-6,
                     help="passed on to graphslam incremental (0: no refine)")
     ap.add_argument("--isam2", help="external replay program (see the header)")
@@ -136,6 +138,8 @@ def main():
         cmd = [args.graphslam, "incremental", path]
         if args.relinearize_threshold is not None:
             cmd += ["--relinearize-threshold", repr(args.relinearize_threshold)]
+        if args.backsubstitution_fraction is not None:
+            cmd += ["--backsubstitution-fraction", repr(args.backsubstitution_fraction)]
         if args.refine > 0:
             cmd += ["--refine", repr(args.refine)]
         print("running", " ".join(cmd), file=sys.stderr, flush=True)

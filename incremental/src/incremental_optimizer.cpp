@@ -75,7 +75,7 @@ struct IncrementalOptimizer::Impl {
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
     : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
   if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
-      options_.relinearize_skip < 1 || !(options_.backsubstitution_threshold >= 0.0) ||
+      options_.relinearize_skip < 1 || !(options_.backsubstitution_fraction >= 0.0) ||
       options_.chain_min_front_rows < 1) {
     throw Error(
         "IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
@@ -209,7 +209,7 @@ bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vect
       return false;
     }
     far.clear();
-    applySteps(factor.solve(options.backsubstitution_threshold), threshold, far);
+    applySteps(factor.solve(threshold * options.backsubstitution_fraction), threshold, far);
     if (far.empty() || !relinearize) break;
     if (stats.passes == options.max_passes) {
       stats.pass_limit_reached = true;

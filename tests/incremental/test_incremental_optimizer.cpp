@@ -338,7 +338,7 @@ TEST(Incremental, OptionsOutOfRangeThrow) {
   o.max_passes = 0;
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   o = {};
-  o.backsubstitution_threshold = std::nan("");
+  o.backsubstitution_fraction = std::nan("");
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   o = {};
   o.relinearize_skip = 0;
