@@ -387,7 +387,10 @@ double BlockFactor::solveNode(int p) {
     return Eigen::Map<Eigen::VectorXd>(heap.data(), dp);
   }();
   rv = ConstVectorMap(y_.data() + starts_[p], dp);
-  rv.noalias() -= panel.bottomRows(c.height - dp).transpose() * gathered_;
+  // One dot product per column: for the few columns of a vertex this is cheaper than a
+  // general matrix-vector product.
+  const Index h = c.height - dp;
+  for (int k = 0; k < dp; ++k) rv[k] -= panel.col(k).tail(h).dot(gathered_);
   panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(rv);
   Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
   const double change = (rv - x).cwiseAbs().maxCoeff();
