@@ -78,8 +78,9 @@ IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
       options_.relinearize_skip < 1 || !(options_.backsubstitution_fraction >= 0.0) ||
       options_.chain_min_front_rows < 1) {
     throw Error(
-        "IncrementalOptimizer: an option is out of its range (thresholds >= 0, "
-        "max_passes >= 1, relinearize_skip >= 1, chain_min_front_rows >= 1)");
+        "IncrementalOptimizer: an option is out of its range (relinearize_threshold and "
+        "backsubstitution_fraction >= 0, max_passes >= 1, relinearize_skip >= 1, "
+        "chain_min_front_rows >= 1)");
   }
   impl_->version = graph_.structureVersion();
   impl_->factor.setChainMinFrontRows(options_.chain_min_front_rows);

@@ -101,8 +101,8 @@ struct SlamSystemOptions {
   /// relinearises little. Back-substitution stops where a step changes by less than 1e-4
   /// (a fraction 1e-2 of the threshold; the library's 1e-3 would give 1e-5): a landmark seen
   /// again moves every pose that saw it a little, and solving all of them again made the
-  /// cost of a landmark step grow with the laps; the online poses stay within 3e-5 m of
-  /// those at 1e-9 (docs/DRIVEBOT.md, q2_c_every_step).
+  /// cost of a landmark step grow with the laps (docs/DRIVEBOT.md, q2_c_every_step, has the
+  /// figures and the accuracy given up).
   incremental::Options incremental_options = [] {
     incremental::Options o;
     o.relinearize_threshold = 0.01;

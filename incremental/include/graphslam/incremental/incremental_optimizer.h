@@ -36,9 +36,9 @@ struct Options {
   /// force (relinearize_threshold in update(), refine()'s threshold in refine()): iSAM2's
   /// "wildfire" threshold, there 0.001 against a relinearisation threshold of 0.1. Steps
   /// that change by less are far below what relinearisation leaves anyway; 0 recomputes
-  /// every step the re-eliminated part reaches. At the default (1e-4 absolute in update())
-  /// a replay of city10000 takes 34 s instead of 54 s at 1e-9 and ends 2.61e-4 above the
-  /// batch optimum instead of 2.59e-4 (docs/BENCHMARKS.md, "Incremental optimisation").
+  /// every step the re-eliminated part reaches. After a loop closure most vertices move a
+  /// little, and solving all of them again was most of a replay's time (docs/BENCHMARKS.md,
+  /// "Incremental optimisation", compares 1e-9 absolute with this default).
   double backsubstitution_fraction = 1e-3;
   /// Consecutive vertices of a chain of the elimination tree (the next is the parent, the
   /// only child, its edges inside the front) are eliminated in one front, without an update
