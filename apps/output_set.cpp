@@ -98,7 +98,8 @@ void moveEntries(const fs::path& from, const fs::path& to, std::string& failed) 
   }
 }
 
-/// The name of an OutputFolder's staging folder, ".graphslam-PID-staging".
+/// The end of an OutputFolder's staging folder's name (".graphslam-PID-staging"), and the
+/// name of its not-written list in it.
 constexpr const char* kStagingName = "staging";
 constexpr const char* kNotWrittenName = ".not-written";
 
