@@ -4,6 +4,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <queue>
+#include <stdexcept>
+#include <utility>
 
 #include "ordering.h"
 
@@ -60,6 +62,8 @@ void BlockFactor::clear() {
   children_.clear();
   chain_child_.clear();
   in_front_.clear();
+  marked_.clear();
+  supernode_starts_.clear();
   moved_.clear();
   front_offset_.clear();
   y_.clear();
@@ -80,6 +84,7 @@ int BlockFactor::add(int dim) {
   children_.emplace_back();
   chain_child_.push_back(-1);
   in_front_.push_back(0);
+  marked_.push_back(0);
   moved_.push_back(0);
   front_offset_.push_back(0);
   y_.resize(starts_.back(), 0.0);
@@ -100,30 +105,17 @@ BlockFactor::Result BlockFactor::refactor(const std::vector<int>& changed,
   const std::vector<int> affected = affectedNodes(changed);
   order_ = orderAffected(affected, last, neighbors);
   moveToEnd(affected, order_);
+  analyse(neighbors);
   Result result;
-  for (std::size_t i = 0; i < order_.size();) {
-    int p = order_[i];
-    assembleFront(p, assemble);
-    extendAddChildren(p);
-    // A chain (the next node is p's parent, p its only child, and the parent's edges stay
-    // within the front) goes on in the same front: no update matrix between them.
-    for (;;) {
-      if (!factorPivot(p)) {
-        result.failed = p;
-        return result;
-      }
-      ++result.eliminated;
-      ++i;
-      const int q = parent_[p];
-      if (i < order_.size() && order_[i] == q && children_[q].size() == 1 &&
-          columns_[p].height >= chain_min_front_rows_ && continueFront(q, assemble)) {
-        chain_child_[q] = p;
-        p = q;
-        continue;
-      }
-      keepUpdate(p);
-      break;
+  for (std::size_t s = 0; s + 1 < supernode_starts_.size(); ++s) {
+    const int first = supernode_starts_[s];
+    const int end = supernode_starts_[s + 1];
+    assembleFront(first, end, assemble);
+    if (!factorFront(first, end)) {
+      result.failed = failedMember(first, end, assemble);
+      return result;
     }
+    result.eliminated += end - first;
   }
   return result;
 }
@@ -207,17 +199,100 @@ void BlockFactor::moveToEnd(const std::vector<int>& affected, const std::vector<
   }
 }
 
-// The front of p: its rows (H's neighbours after p and its children's rows, in key order),
-// column p of H and the right-hand side of p.
-void BlockFactor::assembleFront(int p, const Assemble& assemble) {
-  builder_.begin(p, dims_);
-  assemble(p, builder_);
-  for (int child : children_[p]) {
-    for (int q : columns_[child].rows) {
-      if (q != p) (void)builder_.block(q);
+// Symbolic elimination of the affected nodes (in order_): each one's rows -- its neighbours in
+// H after it and its children's rows -- its parent (the row of the smallest key) and its
+// children. Then new keys in a postorder of their tree, each supernode's members
+// consecutive, and the supernodes' bounds in supernode_starts_.
+void BlockFactor::analyse(const Neighbors& neighbors) {
+  std::vector<int> around;
+  for (int p : order_) {
+    Column& c = columns_[p];
+    c.rows.clear();
+    marked_[p] = 1;
+    const auto add_row = [&](int q) {
+      if (marked_[q] != 0) return;
+      marked_[q] = 1;
+      c.rows.push_back(q);
+    };
+    around.clear();
+    neighbors(p, around);
+    for (int q : around) {
+      if (before(p, q)) add_row(q);
+    }
+    for (int k : children_[p]) {
+      for (int q : columns_[k].rows) add_row(q);
+    }
+    marked_[p] = 0;
+    c.height = dims_[p];
+    for (int q : c.rows) {
+      marked_[q] = 0;
+      c.height += dims_[q];
+    }
+    parent_[p] = c.rows.empty() ? -1
+                                : *std::min_element(c.rows.begin(), c.rows.end(),
+                                                    [this](int a, int b) { return before(a, b); });
+    if (parent_[p] >= 0) children_[parent_[p]].push_back(p);
+  }
+  findSupernodes();
+}
+
+// A node is eliminated in the front of a child (its chain_child_, one of its children) whose
+// rows are the node and the node's rows, when that front has at least chain_min_front_rows_
+// rows. The new
+// keys follow a postorder that visits such a child last, so a supernode is a run of
+// consecutive keys, each member's parent the next.
+void BlockFactor::findSupernodes() {
+  for (int p : order_) {
+    const int q = parent_[p];
+    if (q >= 0 && chain_child_[q] < 0 && columns_[p].rows.size() == columns_[q].rows.size() + 1 &&
+        columns_[p].height >= chain_min_front_rows_) {
+      chain_child_[q] = p;
     }
   }
-  front_rows_.assign(builder_.rows_.begin(), builder_.rows_.end());
+  std::vector<int> post;
+  post.reserve(order_.size());
+  std::vector<std::pair<int, std::size_t>> stack;  // node, next child to visit
+  for (int root : order_) {
+    if (parent_[root] >= 0) continue;
+    stack.emplace_back(root, 0);
+    while (!stack.empty()) {
+      const int q = stack.back().first;
+      std::size_t& next = stack.back().second;
+      const std::vector<int>& kids = children_[q];
+      while (next < kids.size() && (affected_[kids[next]] == 0 || kids[next] == chain_child_[q]))
+        ++next;
+      int visit = -1;
+      if (next < kids.size()) {
+        visit = kids[next++];
+      } else if (next == kids.size() && chain_child_[q] >= 0) {
+        ++next;
+        visit = chain_child_[q];
+      }
+      if (visit >= 0) {
+        stack.emplace_back(visit, 0);
+        continue;
+      }
+      post.push_back(q);
+      stack.pop_back();
+    }
+  }
+  order_ = std::move(post);
+  supernode_starts_.clear();
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    pos_[order_[i]] = next_key_++;
+    if (i == 0 || chain_child_[order_[i]] != order_[i - 1])
+      supernode_starts_.push_back(static_cast<int>(i));
+  }
+  supernode_starts_.push_back(static_cast<int>(order_.size()));
+}
+
+// The front of the supernode order_[first, end): its members, then the rows of the last
+// (in key order); the members' columns of H and right-hand sides, and their other children's
+// update matrices and vectors.
+void BlockFactor::assembleFront(int first, int end, const Assemble& assemble) {
+  const int head = order_[first];
+  front_rows_.assign(1, head);
+  front_rows_.insert(front_rows_.end(), columns_[head].rows.begin(), columns_[head].rows.end());
   std::sort(front_rows_.begin() + 1, front_rows_.end(),
             [this](int a, int b) { return before(a, b); });
   int height = 0;
@@ -226,33 +301,33 @@ void BlockFactor::assembleFront(int p, const Assemble& assemble) {
     in_front_[q] = 1;
     height += dims_[q];
   }
-  const int dp = dims_[p];
-  front_.setZero(height, height);
+  // Only the lower triangle is read, so only the blocks on and below the diagonal are zeroed.
+  front_.resize(height, height);
+  for (int q : front_rows_) {
+    const int fq = front_offset_[q];
+    front_.block(fq, fq, height - fq, dims_[q]).setZero();
+  }
   front_rhs_.setZero(height);
-  for (int q : front_rows_) front_.block(front_offset_[q], 0, dims_[q], dp) = builder_.block(q);
-  front_rhs_.head(dp) = builder_.rhs();
+  for (int i = first; i < end; ++i) {
+    const int p = order_[i];
+    builder_.begin(p, dims_);
+    assemble(p, builder_);
+    const int fp = front_offset_[p];
+    for (int r : builder_.rows_) {
+      if (in_front_[r] == 0)
+        throw std::logic_error("incremental factor: a column of H has a row its analysis missed");
+      front_.block(front_offset_[r], fp, dims_[r], dims_[p]) += builder_.block(r);
+    }
+    front_rhs_.segment(fp, dims_[p]) += builder_.rhs();
+    extendAddChildren(p);
+  }
 }
 
-// Adds column q of H into the current front when all its rows are there (q continues a
-// chain); returns false, changing nothing, otherwise.
-bool BlockFactor::continueFront(int q, const Assemble& assemble) {
-  builder_.begin(q, dims_);
-  assemble(q, builder_);
-  for (int r : builder_.rows_) {
-    if (in_front_[r] == 0) return false;
-  }
-  const int fq = front_offset_[q];
-  for (int r : builder_.rows_) {
-    front_.block(front_offset_[r], fq, dims_[r], dims_[q]) += builder_.block(r);
-  }
-  front_rhs_.segment(fq, dims_[q]) += builder_.rhs();
-  return true;
-}
-
-// Adds the children's update matrices and vectors into the front's lower triangle
-// (extend-add).
+// Adds the update matrices and vectors of p's children (but the member of p's supernode
+// below it, which kept none) into the front's lower triangle (extend-add).
 void BlockFactor::extendAddChildren(int p) {
   for (int child : children_[p]) {
+    if (child == chain_child_[p]) continue;
     const Column& cc = columns_[child];
     const int dc = dims_[child];
     const int h = cc.height - dc;
@@ -280,43 +355,75 @@ void BlockFactor::extendAddChildren(int p) {
   }
 }
 
-// Eliminates p, the first node left in the front: L(p, p), L(rows, p) and y_p, and the
-// Schur complement of the rows after it, in place. Only the lower triangle is read.
-bool BlockFactor::factorPivot(int p) {
-  const int dp = dims_[p];
-  const int top = front_offset_[p];
-  const int h = static_cast<int>(front_.rows()) - top - dp;
-  auto pivot = front_.block(top, top, dp, dp);
-  if (!pivot.allFinite() || !front_.block(top + dp, top, h, dp).allFinite()) return false;
-  llt_.compute(pivot.selfadjointView<Eigen::Lower>());
-  if (llt_.info() != Eigen::Success) return false;
-  Column& c = columns_[p];
-  c.rows.clear();
-  c.row_offsets.clear();
-  for (auto it = std::find(front_rows_.begin(), front_rows_.end(), p) + 1; it != front_rows_.end();
-       ++it) {
-    c.rows.push_back(*it);
-    c.row_offsets.push_back(front_offset_[*it] - top);
-  }
-  c.height = dp + h;
-  c.update.clear();
-  c.vector.clear();
-  c.panel.resize(static_cast<std::size_t>(c.height) * dp);
-  MatrixMap panel(c.panel.data(), c.height, dp);
-  panel.topRows(dp) = llt_.matrixL();
-  auto below = panel.bottomRows(h);
-  below = front_.block(top + dp, top, h, dp);
-  llt_.matrixU().solveInPlace<Eigen::OnTheRight>(below);  // L(R, p) = F(R, p) L(p, p)^-T
-  Eigen::Map<Eigen::VectorXd> y(y_.data() + starts_[p], dp);
-  y = llt_.matrixL().solve(front_rhs_.segment(top, dp));
+// Eliminates the supernode's members, the front's first k columns, at once: their block
+// L11 L11^T, the rows below L21 = F21 L11^-T, their part y1 of the forward solution, and the
+// Schur complement F22 - L21 L21^T (one rank-k update) with its vector. Only the blocks on and
+// below the diagonal are read. Returns false when a column is not finite or L11 does not exist
+// (the front is then spoilt: see failedMember).
+bool BlockFactor::factorFront(int first, int end) {
+  const int last = order_[end - 1];
+  const int k = front_offset_[last] + dims_[last];
+  const int h = static_cast<int>(front_.rows()) - k;
+  if (!membersFinite(first, end)) return false;
+  Eigen::Ref<Eigen::MatrixXd> l11 = front_.topLeftCorner(k, k);
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(l11);  // in place
+  if (llt.info() != Eigen::Success) return false;
+  auto below = front_.bottomLeftCorner(h, k);
+  llt.matrixU().solveInPlace<Eigen::OnTheRight>(below);
+  auto y = front_rhs_.head(k);
+  llt.matrixL().solveInPlace(y);
   front_.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
   front_rhs_.tail(h).noalias() -= below * y;
-  parent_[p] = c.rows.empty() ? -1 : c.rows.front();
-  if (parent_[p] >= 0) children_[parent_[p]].push_back(p);
+  for (int i = first; i < end; ++i) {
+    const int p = order_[i];
+    const int dp = dims_[p];
+    const int top = front_offset_[p];
+    Column& c = columns_[p];
+    c.rows.assign(front_rows_.begin() + (i - first) + 1, front_rows_.end());
+    c.row_offsets.clear();
+    for (int q : c.rows) c.row_offsets.push_back(front_offset_[q] - top);
+    c.height = static_cast<int>(front_.rows()) - top;
+    c.update.clear();
+    c.vector.clear();
+    c.panel.resize(static_cast<std::size_t>(c.height) * dp);
+    MatrixMap panel(c.panel.data(), c.height, dp);
+    panel = front_.block(top, top, c.height, dp);
+    panel.topRows(dp).triangularView<Eigen::StrictlyUpper>().setZero();
+    Eigen::Map<Eigen::VectorXd>(y_.data() + starts_[p], dp) = y.segment(top, dp);
+  }
+  keepUpdate(last);
   return true;
 }
 
-// The end of a chain: what is left of the front is p's update matrix and vector, kept for
+// Whether the members' columns (on and below the diagonal) are finite.
+bool BlockFactor::membersFinite(int first, int end) const {
+  const int height = static_cast<int>(front_.rows());
+  for (int i = first; i < end; ++i) {
+    const int top = front_offset_[order_[i]];
+    if (!front_.block(top, top, height - top, dims_[order_[i]]).allFinite()) return false;
+  }
+  return true;
+}
+
+// After factorFront failed: the member of the supernode order_[first, end) with a column
+// that is not finite or the first whose leading block is not positive definite, found on
+// the front assembled again.
+int BlockFactor::failedMember(int first, int end, const Assemble& assemble) {
+  assembleFront(first, end, assemble);
+  const int height = static_cast<int>(front_.rows());
+  for (int i = first; i < end; ++i) {
+    const int p = order_[i];
+    const int top = front_offset_[p];
+    if (!front_.block(top, top, height - top, dims_[p]).allFinite()) return p;
+    const int n = top + dims_[p];
+    const Eigen::LLT<Eigen::MatrixXd> leading(
+        front_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>());
+    if (leading.info() != Eigen::Success) return p;
+  }
+  return order_[end - 1];
+}
+
+// The end of a supernode: what is left of the front is p's update matrix and vector, kept for
 // p's ancestors (only the lower triangle of the update matrix is ever read).
 void BlockFactor::keepUpdate(int p) {
   Column& c = columns_[p];

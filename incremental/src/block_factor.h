@@ -7,7 +7,8 @@
 // again. The rest of the factor does not depend on the affected part and stays as it is.
 // Elimination is multifrontal: every node keeps the update matrix (Schur complement) and
 // vector its subtree passes to its ancestors, so eliminating a node again costs its
-// children's updates, not its whole subtree.
+// children's updates, not its whole subtree. Nodes with the same rows below them
+// (supernodes) are eliminated in one front at once, and only the last keeps an update.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -47,8 +48,8 @@ class BlockFactor {
   using Neighbors = std::function<void(int node, std::vector<int>& out)>;
 
   void clear();
-  /// A chain (the next node is the parent, the only child, its edges inside the front) goes
-  /// on in the same front only while the front has at least this many rows (see
+  /// A node and the child whose rows are the node and its rows (a supernode) are eliminated
+  /// in one front only when the child's front has at least this many rows (see
   /// incremental::Options::chain_min_front_rows).
   void setChainMinFrontRows(int rows) { chain_min_front_rows_ = rows; }
   /// A new node of dimension `dim` (ids count up from 0); it enters the factor at the next
@@ -90,7 +91,7 @@ class BlockFactor {
     int height = 0;                // d_p + sum of the rows' dimensions
     std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
-    // (empty for a node whose elimination went on into its parent's, chain_child_):
+    // (empty for a supernode member below the last, chain_child_ of its parent):
     std::vector<double> update;  // h x h, lower triangle: the Schur complement onto the rows
     std::vector<double> vector;  // h: the forward solution's contribution
   };
@@ -100,10 +101,13 @@ class BlockFactor {
                                  const Neighbors& neighbors);
   void moveToEnd(const std::vector<int>& affected, const std::vector<int>& order);
   [[nodiscard]] bool before(int a, int b) const { return pos_[a] < pos_[b]; }
-  void assembleFront(int p, const Assemble& assemble);
+  void analyse(const Neighbors& neighbors);
+  void findSupernodes();
+  void assembleFront(int first, int end, const Assemble& assemble);
   void extendAddChildren(int p);
-  bool continueFront(int q, const Assemble& assemble);
-  bool factorPivot(int p);
+  bool factorFront(int first, int end);
+  [[nodiscard]] bool membersFinite(int first, int end) const;
+  int failedMember(int first, int end, const Assemble& assemble);
   void keepUpdate(int p);
   double solveNode(int p);
 
@@ -117,14 +121,16 @@ class BlockFactor {
   std::vector<int> local_;    // orderAffected's node -> index among the affected
   std::vector<char> queued_;  // solve's
   std::vector<char> moved_;   // solve's: the solution changed by more than its threshold
-  std::vector<int> order_;    // the affected nodes in elimination order
+  std::vector<int> order_;    // the affected nodes in elimination order (a postorder)
   std::vector<Column> columns_;
   // Elimination tree: a node's parent is its row of the smallest key (-1 for a root).
   std::vector<int> parent_;
   std::vector<std::vector<int>> children_;
-  // The child a node's elimination continued from in the same front (-1: none); that child
-  // kept no update matrix, so it is eliminated again whenever the node is.
+  // The child eliminated in the same front as a node (its supernode's member below it; -1:
+  // none); that child kept no update matrix, so it is eliminated again whenever the node is.
   std::vector<int> chain_child_;
+  std::vector<int> supernode_starts_;  // the last refactor's supernodes: bounds in order_
+  std::vector<char> marked_;           // analyse's
   int chain_min_front_rows_ = 48;
   std::vector<double> y_, x_;
   ColumnBuilder builder_;
@@ -135,7 +141,6 @@ class BlockFactor {
   std::vector<int> front_rows_;  // nodes of the front, in key order
   std::vector<int> front_offset_;
   std::vector<char> in_front_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd gathered_;  // solveNode's
 };
 

@@ -158,8 +158,8 @@ TEST(Incremental, TighterRelinearisationThresholdMatchesBatchCloser) {
   expectBatchAgreement(options, 1e-6, 1e-4);
 }
 
-// Every chain of the elimination tree in one front (the test graphs' fronts are below the
-// default's 48 rows, so this is where the chained elimination is checked).
+// Every supernode of the elimination tree in one front (the test graphs' fronts are below
+// the default's 48 rows, so this is where supernodal elimination is checked).
 TEST(Incremental, ChainsInOneFrontMatchBatchToo) {
   incremental::Options options;
   options.relinearize_threshold = 1e-3;
@@ -210,9 +210,11 @@ TEST(Incremental, MarginalCovarianceMatchesBatch) {
   EXPECT_THROW((void)inc.marginalCovariance(0), Error);  // the fixed gauge vertex
 }
 
-TEST(Incremental, UndeterminedVertexFailsNamingItAndKeepsEstimates) {
+// `options`: with chain_min_front_rows 1 the landmark is eliminated in one front with other
+// vertices, and the failing member of that front is found.
+void expectUndeterminedVertexFailsNamingIt(const incremental::Options& options) {
   Graph graph;
-  IncrementalOptimizer inc(graph);
+  IncrementalOptimizer inc(graph, options);
   SquareLaps laps(5, 1, 1);
   for (int k = 0; k < 6; ++k) laps.addStep(inc, k);
   ASSERT_TRUE(inc.update());
@@ -239,6 +241,13 @@ TEST(Incremental, UndeterminedVertexFailsNamingItAndKeepsEstimates) {
   EXPECT_TRUE(inc.lastStats().rebuilt);
   EXPECT_GE(inc.chi2(), 0.0);
   EXPECT_GT(before, -1.0);
+}
+
+TEST(Incremental, UndeterminedVertexFailsNamingItAndKeepsEstimates) {
+  expectUndeterminedVertexFailsNamingIt({});
+  incremental::Options one_front;
+  one_front.chain_min_front_rows = 1;
+  expectUndeterminedVertexFailsNamingIt(one_front);
 }
 
 TEST(Incremental, RemovedEdgeAndDirectChangesRebuild) {

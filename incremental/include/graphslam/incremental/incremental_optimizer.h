@@ -40,12 +40,12 @@ struct Options {
   /// little, and solving all of them again was most of a replay's time (docs/BENCHMARKS.md,
   /// "Incremental optimisation", compares 1e-9 absolute with this default).
   double backsubstitution_fraction = 1e-3;
-  /// Consecutive vertices of a chain of the elimination tree (the next is the parent, the
-  /// only child, its edges inside the front) are eliminated in one front, without an update
-  /// matrix copied out and back in between, while the front has at least this many rows. A
-  /// chain is eliminated again whole, so small fronts (near the root, where every update
-  /// starts) stay single. City10000 replayed at 48: 85.8 s; at 120: 95.7 s (m3500 1.6 and
-  /// 2.2 s); without chains: 126 s (docs/BENCHMARKS.md, "Incremental optimisation").
+  /// A vertex is eliminated in one front with its child in the elimination tree when the
+  /// child's rows are the vertex and the vertex's rows (a supernode, iSAM2's clique) and that
+  /// front has at least this many rows: the members are factorised at once, with one rank-k
+  /// update of the rest of the front, and only the last keeps an update matrix. A supernode
+  /// is eliminated again whole, so where fronts are small merging costs more than it saves
+  /// (docs/BENCHMARKS.md, "Incremental optimisation", compares values).
   int chain_min_front_rows = 48;
 };
 
