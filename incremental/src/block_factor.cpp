@@ -437,8 +437,9 @@ void BlockFactor::keepUpdate(int p) {
 }
 
 // From the root down, latest key first: the eliminated nodes, and the children of solved
-// nodes with a row whose solution moved by more than the threshold. (A node's rows other than
-// its parent are rows of its parent: when the parent is not solved again, neither is it.)
+// nodes with a row whose solution changed (by more than the threshold: solveNode). (A node's rows
+// other than its parent are rows of its parent: when the parent is not solved again, neither is
+// it.)
 std::vector<int> BlockFactor::solve(double threshold) {
   const auto later_first = [this](int a, int b) { return before(a, b); };
   std::priority_queue<int, std::vector<int>, decltype(later_first)> pending(later_first);
@@ -452,9 +453,9 @@ std::vector<int> BlockFactor::solve(double threshold) {
     const int p = pending.top();
     pending.pop();
     visited.push_back(p);
-    const double change = solveNode(p);
+    const double change = solveNode(p, threshold);
     if (change > 0.0) changed.push_back(p);
-    moved_[p] = change > threshold ? 1 : 0;
+    moved_[p] = change > 0.0 ? 1 : 0;
     for (int child : children_[p]) {
       if (queued_[child] != 0) continue;
       const std::vector<int>& rows = columns_[child].rows;
@@ -470,8 +471,10 @@ std::vector<int> BlockFactor::solve(double threshold) {
   return changed;
 }
 
-// x_p = L(p, p)^-T (y_p - L(rows, p)^T x_rows); returns the largest change of an entry.
-double BlockFactor::solveNode(int p) {
+// x_p = L(p, p)^-T (y_p - L(rows, p)^T x_rows), kept only when an entry changes by more than
+// the threshold (so that many changes below it cannot add up unseen: x_p is what p's
+// descendants were last solved with); returns that change, or 0 when x_p was kept.
+double BlockFactor::solveNode(int p, double threshold) {
   const Column& c = columns_[p];
   const int dp = dims_[p];
   gathered_.resize(c.height - dp);
@@ -501,6 +504,7 @@ double BlockFactor::solveNode(int p) {
   panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(rv);
   Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
   const double change = (rv - x).cwiseAbs().maxCoeff();
+  if (change <= threshold) return 0.0;
   x = rv;
   return change;
 }

@@ -72,8 +72,9 @@ class BlockFactor {
                   const Neighbors& neighbors, const Assemble& assemble);
 
   /// Back-substitution L^T x = y. A node is solved again when the last refactor eliminated
-  /// it or a solution it depends on changed by more than `threshold`; returns the nodes
-  /// whose solution changed.
+  /// it or a solution it depends on changed; its new solution is kept only when it differs
+  /// from the old by more than `threshold` (iSAM2's wildfire). Returns the nodes whose
+  /// solution changed.
   std::vector<int> solve(double threshold);
   /// Solution block of a node (its dimension in entries).
   [[nodiscard]] Eigen::Map<const Eigen::VectorXd> solution(int node) const;
@@ -109,7 +110,7 @@ class BlockFactor {
   [[nodiscard]] bool membersFinite(int first, int end) const;
   int failedMember(int first, int end, const Assemble& assemble);
   void keepUpdate(int p);
-  double solveNode(int p);
+  double solveNode(int p, double threshold);
 
   std::vector<int> dims_;
   std::vector<int> starts_;     // scalar offset of each node in y and x

@@ -99,7 +99,7 @@ struct SlamSystemOptions {
   /// The relinearisation threshold is 0.01 here (the library's default is iSAM2's 0.1): the
   /// estimates after every step stay within millimetres of the optimum, and a DriveBot graph
   /// relinearises little. Back-substitution stops where a step changes by less than 1e-4
-  /// (a fraction 1e-2 of the threshold; the library's 1e-3 would give 1e-5): a landmark seen
+  /// (the library's fraction 1e-2 of the threshold): a landmark seen
   /// again moves every pose that saw it a little, and solving all of them again made the
   /// cost of a landmark step grow with the laps (docs/DRIVEBOT.md, q2_c_every_step, has the
   /// figures and the accuracy given up).

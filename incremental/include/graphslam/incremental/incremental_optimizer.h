@@ -31,15 +31,15 @@ struct Options {
   /// relinearizeSkip, there 10); the other updates solve the new edges at the current
   /// linearisation points in one pass.
   int relinearize_skip = 1;
-  /// Back-substitution recomputes a vertex's step only when it is re-eliminated or a step it
-  /// depends on changed by more than this fraction of the relinearisation threshold in
-  /// force (relinearize_threshold in update(), refine()'s threshold in refine()): iSAM2's
-  /// "wildfire" threshold, there 0.001 against a relinearisation threshold of 0.1. Steps
-  /// that change by less are far below what relinearisation leaves anyway; 0 recomputes
-  /// every step the re-eliminated part reaches. After a loop closure most vertices move a
-  /// little, and solving all of them again was most of a replay's time (docs/BENCHMARKS.md,
-  /// "Incremental optimisation", compares 1e-9 absolute with this default).
-  double backsubstitution_fraction = 1e-3;
+  /// Back-substitution solves a vertex again only when it is re-eliminated or a step it
+  /// depends on changed, and keeps the new step only when it differs from the old by more
+  /// than this fraction of the relinearisation threshold in force (relinearize_threshold in
+  /// update(), refine()'s threshold in refine()), so that changes below it cannot add up
+  /// unseen. 1e-2 is iSAM2's "wildfire" threshold (0.001 against its relinearisation
+  /// threshold 0.1). Smaller fractions bring each update closer to the optimum for more time,
+  /// most on graphs with landmarks (docs/BENCHMARKS.md, "Incremental optimisation"); 0 solves
+  /// every step the re-eliminated part reaches.
+  double backsubstitution_fraction = 1e-2;
   /// A vertex is eliminated in one front with its child in the elimination tree when the
   /// child's rows are the vertex and the vertex's rows (a supernode, iSAM2's clique) and that
   /// front has at least this many rows: the members are factorised at once, with one rank-k
