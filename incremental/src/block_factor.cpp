@@ -238,9 +238,8 @@ void BlockFactor::analyse(const Neighbors& neighbors) {
 
 // A node is eliminated in the front of a child (its chain_child_, one of its children) whose
 // rows are the node and the node's rows, when that front has at least chain_min_front_rows_
-// rows. The new
-// keys follow a postorder that visits such a child last, so a supernode is a run of
-// consecutive keys, each member's parent the next.
+// rows. The new keys follow a postorder that visits such a child last, so a supernode is a
+// run of consecutive keys, each member's parent the next.
 void BlockFactor::findSupernodes() {
   for (int p : order_) {
     const int q = parent_[p];
@@ -437,9 +436,9 @@ void BlockFactor::keepUpdate(int p) {
 }
 
 // From the root down, latest key first: the eliminated nodes, and the children of solved
-// nodes with a row whose solution changed (by more than the threshold: solveNode). (A node's rows
-// other than its parent are rows of its parent: when the parent is not solved again, neither is
-// it.)
+// nodes with a row whose solution changed (solveNode keeps only changes above the threshold).
+// A node's rows other than its parent are rows of its parent: when the parent is not solved
+// again, neither is it.
 std::vector<int> BlockFactor::solve(double threshold) {
   const auto later_first = [this](int a, int b) { return before(a, b); };
   std::priority_queue<int, std::vector<int>, decltype(later_first)> pending(later_first);
