@@ -61,7 +61,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "this (metres, radians)")(
       "backsubstitution-fraction",
       po::value(&opt.backsubstitution_fraction)->default_value(opt.backsubstitution_fraction),
-      "back-substitution solves a vertex again only when a step it depends on changed by more "
+      "back-substitution keeps a vertex's new step only when it differs from the old by more "
       "than this fraction of the relinearisation threshold (iSAM2's wildfire; 0: always)")(
       "check-every", po::value(&o.check_every)->default_value(0),
       "every N steps, compare the estimates with a batch solve of the same graph (outside the "

@@ -363,7 +363,9 @@ bool BlockFactor::factorFront(int first, int end) {
   const int last = order_[end - 1];
   const int k = front_offset_[last] + dims_[last];
   const int h = static_cast<int>(front_.rows()) - k;
-  if (!membersFinite(first, end)) return false;
+  for (int i = first; i < end; ++i) {
+    if (!memberFinite(i)) return false;
+  }
   Eigen::Ref<Eigen::MatrixXd> l11 = front_.topLeftCorner(k, k);
   const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(l11);  // in place
   if (llt.info() != Eigen::Success) return false;
@@ -394,14 +396,10 @@ bool BlockFactor::factorFront(int first, int end) {
   return true;
 }
 
-// Whether the members' columns (on and below the diagonal) are finite.
-bool BlockFactor::membersFinite(int first, int end) const {
-  const int height = static_cast<int>(front_.rows());
-  for (int i = first; i < end; ++i) {
-    const int top = front_offset_[order_[i]];
-    if (!front_.block(top, top, height - top, dims_[order_[i]]).allFinite()) return false;
-  }
-  return true;
+// Whether member i's column (on and below the diagonal) is finite.
+bool BlockFactor::memberFinite(int i) const {
+  const int top = front_offset_[order_[i]];
+  return front_.block(top, top, front_.rows() - top, dims_[order_[i]]).allFinite();
 }
 
 // After factorFront failed: the member of the supernode order_[first, end) with a column
@@ -409,12 +407,10 @@ bool BlockFactor::membersFinite(int first, int end) const {
 // the front assembled again.
 int BlockFactor::failedMember(int first, int end, const Assemble& assemble) {
   assembleFront(first, end, assemble);
-  const int height = static_cast<int>(front_.rows());
   for (int i = first; i < end; ++i) {
     const int p = order_[i];
-    const int top = front_offset_[p];
-    if (!front_.block(top, top, height - top, dims_[p]).allFinite()) return p;
-    const int n = top + dims_[p];
+    if (!memberFinite(i)) return p;
+    const int n = front_offset_[p] + dims_[p];
     const Eigen::LLT<Eigen::MatrixXd> leading(
         front_.topLeftCorner(n, n).selfadjointView<Eigen::Lower>());
     if (leading.info() != Eigen::Success) return p;

@@ -107,7 +107,7 @@ class BlockFactor {
   void assembleFront(int first, int end, const Assemble& assemble);
   void extendAddChildren(int p);
   bool factorFront(int first, int end);
-  [[nodiscard]] bool membersFinite(int first, int end) const;
+  [[nodiscard]] bool memberFinite(int i) const;
   int failedMember(int first, int end, const Assemble& assemble);
   void keepUpdate(int p);
   double solveNode(int p, double threshold);

@@ -98,15 +98,13 @@ struct SlamSystemOptions {
   bool incremental = true;
   /// The relinearisation threshold is 0.01 here (the library's default is iSAM2's 0.1): the
   /// estimates after every step stay within millimetres of the optimum, and a DriveBot graph
-  /// relinearises little. Back-substitution stops where a step changes by less than 1e-4
-  /// (the library's fraction 1e-2 of the threshold): a landmark seen
-  /// again moves every pose that saw it a little, and solving all of them again made the
-  /// cost of a landmark step grow with the laps (docs/DRIVEBOT.md, q2_c_every_step, has the
-  /// figures and the accuracy given up).
+  /// relinearises little. With the library's back-substitution fraction (1e-2) a step is kept
+  /// only when it changes by more than 1e-4: a landmark seen again moves every pose that saw
+  /// it a little, and solving all of them again made the cost of a landmark step grow with
+  /// the laps (docs/DRIVEBOT.md, q2_c_every_step, has the figures and the accuracy given up).
   incremental::Options incremental_options = [] {
     incremental::Options o;
     o.relinearize_threshold = 0.01;
-    o.backsubstitution_fraction = 1e-2;
     return o;
   }();
 };
