@@ -12,12 +12,31 @@ namespace graphslam::incremental {
 
 namespace {
 
+// Where a factor's block H(other, v) of a variable v lies in the factor's `hessian`.
+struct Link {
+  int factor = -1;
+  int other = -1;  // the other variable
+  int row = 0;     // first row of `other` in the factor's hessian
+  int col = 0;     // first column of v there
+  int rows = 0;    // dimension of `other`
+};
+
 // A free vertex of the system (node of the factor with the same index): its linearisation
-// point (flat estimate data) and the factors (edges) that touch it.
+// point (flat estimate data), the factors (edges) that touch it, and what assembling its
+// column of H needs: the sums over its factors of the diagonal block H(v, v) and of -g_v,
+// kept up to date as factors are linearised, and the places of the off-diagonal blocks. So
+// assembling a column reads the factors' data only for the rows that come after it (a
+// landmark seen from many poses is eliminated after most of them).
 struct Variable {
   Vertex* vertex = nullptr;
   std::vector<double> theta0;
   std::vector<int> factors;
+  std::vector<double> diagonal;  // dim x dim, column-major
+  std::vector<double> rhs;       // dim
+  std::vector<Link> links;       // per factor, one per other free vertex of it
+  // Changes of the sums since they were last summed afresh: resum() bounds the rounding
+  // that adding and taking back blocks leaves in them.
+  std::size_t sum_changes = 0;
 };
 
 // An edge with its quadratic form at the linearisation points of its vertices, kept as a
@@ -45,6 +64,8 @@ struct IncrementalOptimizer::Impl {
   void integrateNewEdges(std::vector<int>& touched);
   int variableFor(Vertex& v);
   void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_nodes);
+  void addDiagonal(const Factor& f, double sign);
+  void resum(int var);
   void assemble(int p, ColumnBuilder& builder) const;
   void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
   void remember(int var);
@@ -191,11 +212,7 @@ bool IncrementalOptimizer::Impl::refine(double threshold) {
 bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vector<int>& last,
                                        double threshold, bool relinearize) {
   const auto neighbors = [this](int node, std::vector<int>& out) {
-    for (int id : vars[node].factors) {
-      for (int var : factors[id].vars) {
-        if (var >= 0) out.push_back(var);
-      }
-    }
+    for (const Link& l : vars[node].links) out.push_back(l.other);
   };
   const auto assembler = [this](int node, ColumnBuilder& b) { assemble(node, b); };
   std::vector<int> nodes;
@@ -260,6 +277,8 @@ int IncrementalOptimizer::Impl::variableFor(Vertex& v) {
   var.vertex = &v;
   var.theta0.resize(v.estimateDataDimension());
   v.getEstimateData(var.theta0.data());
+  var.diagonal.assign(static_cast<std::size_t>(v.dimension()) * v.dimension(), 0.0);
+  var.rhs.assign(v.dimension(), 0.0);
   factor.add(v.dimension());  // node id == variable index
   vars.push_back(std::move(var));
   remembered.push_back(0);
@@ -287,8 +306,15 @@ void IncrementalOptimizer::Impl::integrateNewEdges(std::vector<int>& touched) {
       f.dim += v->dimension();
     }
     const int id = static_cast<int>(factors.size());
-    for (int var : f.vars) {
-      if (var >= 0) vars[var].factors.push_back(id);
+    for (std::size_t a = 0; a < n; ++a) {
+      if (f.vars[a] < 0) continue;
+      Variable& v = vars[f.vars[a]];
+      v.factors.push_back(id);
+      for (std::size_t b = 0; b < n; ++b) {
+        if (b == a || f.vars[b] < 0) continue;
+        v.links.push_back(
+            Link{id, f.vars[b], f.offsets[b], f.offsets[a], vars[f.vars[b]].vertex->dimension()});
+      }
     }
     factors.push_back(std::move(f));
     touched.push_back(id);
@@ -328,6 +354,7 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
             HessianBlockRef{f.offsets[a] + f.offsets[b] * f.dim, f.dim, false};
       }
     }
+    if (!f.hessian.empty()) addDiagonal(f, -1.0);
     f.hessian.assign(static_cast<std::size_t>(f.dim) * f.dim, 0.0);
     f.gradient.assign(f.dim, 0.0);
     e.constructQuadraticForm(
@@ -335,6 +362,7 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
     for (int c = 0; c < f.dim; ++c) {
       for (int r = c + 1; r < f.dim; ++r) f.hessian[r + c * f.dim] = f.hessian[c + r * f.dim];
     }
+    addDiagonal(f, 1.0);
     for (int var : f.vars) {
       if (var >= 0) changed_nodes.push_back(var);
     }
@@ -347,27 +375,60 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
   stats.relinearized_edges += static_cast<int>(factor_ids.size());
   std::sort(changed_nodes.begin(), changed_nodes.end());
   changed_nodes.erase(std::unique(changed_nodes.begin(), changed_nodes.end()), changed_nodes.end());
+  for (int var : changed_nodes) {
+    if (vars[var].sum_changes > 4 * vars[var].factors.size() + 16) resum(var);
+  }
 }
 
-// Column p of H (rows at or after p) and -g_p: the sum over the factors of p's vertex.
-void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
-  const int var = p;
-  const long long position = factor.position(p);
-  auto rhs = builder.rhs();
-  for (int id : vars[var].factors) {
+// Adds (sign 1) or takes back (-1) a factor's diagonal blocks and gradients in its
+// variables' sums.
+void IncrementalOptimizer::Impl::addDiagonal(const Factor& f, double sign) {
+  const Eigen::Map<const Eigen::MatrixXd> h(f.hessian.data(), f.dim, f.dim);
+  for (std::size_t a = 0; a < f.vars.size(); ++a) {
+    if (f.vars[a] < 0) continue;
+    Variable& v = vars[f.vars[a]];
+    const int d = v.vertex->dimension();
+    const int at = f.offsets[a];
+    Eigen::Map<Eigen::MatrixXd>(v.diagonal.data(), d, d) += sign * h.block(at, at, d, d);
+    Eigen::Map<Eigen::VectorXd>(v.rhs.data(), d) -=
+        sign * Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + at, d);
+    ++v.sum_changes;
+  }
+}
+
+// Sums a variable's diagonal block and right-hand side afresh from its factors.
+void IncrementalOptimizer::Impl::resum(int var) {
+  Variable& v = vars[var];
+  const int d = static_cast<int>(v.rhs.size());
+  Eigen::Map<Eigen::MatrixXd> diagonal(v.diagonal.data(), d, d);
+  Eigen::Map<Eigen::VectorXd> rhs(v.rhs.data(), d);
+  diagonal.setZero();
+  rhs.setZero();
+  for (int id : v.factors) {
     const Factor& f = factors[id];
-    const Eigen::Map<const Eigen::MatrixXd> h(f.hessian.data(), f.dim, f.dim);
-    const auto slot =
-        static_cast<std::size_t>(std::find(f.vars.begin(), f.vars.end(), var) - f.vars.begin());
-    const int col = f.offsets[slot];
-    const int dp = vars[var].vertex->dimension();
-    rhs -= Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + col, dp);
-    for (std::size_t t = 0; t < f.vars.size(); ++t) {
-      if (f.vars[t] < 0) continue;
-      const int other = f.vars[t];
-      if (factor.position(other) < position) continue;
-      builder.block(other) += h.block(f.offsets[t], col, vars[other].vertex->dimension(), dp);
-    }
+    if (f.hessian.empty()) continue;
+    const int at = f.offsets[static_cast<std::size_t>(std::find(f.vars.begin(), f.vars.end(), var) -
+                                                      f.vars.begin())];
+    diagonal +=
+        Eigen::Map<const Eigen::MatrixXd>(f.hessian.data(), f.dim, f.dim).block(at, at, d, d);
+    rhs -= Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + at, d);
+  }
+  v.sum_changes = 0;
+}
+
+// Column p of H (rows at or after p) and -g_p: the sums kept for p's vertex and the blocks of
+// its factors' rows that come after p.
+void IncrementalOptimizer::Impl::assemble(int p, ColumnBuilder& builder) const {
+  const Variable& v = vars[p];
+  const int dp = static_cast<int>(v.rhs.size());
+  builder.rhs() += Eigen::Map<const Eigen::VectorXd>(v.rhs.data(), dp);
+  builder.block(p) += Eigen::Map<const Eigen::MatrixXd>(v.diagonal.data(), dp, dp);
+  const long long position = factor.position(p);
+  for (const Link& l : v.links) {
+    if (factor.position(l.other) < position) continue;
+    const Factor& f = factors[l.factor];
+    builder.block(l.other) += Eigen::Map<const Eigen::MatrixXd>(f.hessian.data(), f.dim, f.dim)
+                                  .block(l.row, l.col, l.rows, dp);
   }
 }
 
