@@ -3,7 +3,6 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <queue>
 #include <stdexcept>
 #include <utility>
 
@@ -55,7 +54,6 @@ void BlockFactor::clear() {
   next_key_ = 0;
   affected_list_.clear();
   local_.clear();
-  queued_.clear();
   order_.clear();
   columns_.clear();
   parent_.clear();
@@ -78,7 +76,6 @@ int BlockFactor::add(int dim) {
   starts_.push_back(starts_.back() + dim);
   pos_.push_back(next_key_++);
   local_.push_back(-1);
-  queued_.push_back(0);
   columns_.emplace_back();
   parent_.push_back(-1);
   children_.emplace_back();
@@ -431,36 +428,32 @@ void BlockFactor::keepUpdate(int p) {
   for (int q : front_rows_) in_front_[q] = 0;
 }
 
-// From the root down, latest key first: the eliminated nodes, and the children of solved
-// nodes with a row whose solution changed (solveNode keeps only changes above the threshold).
-// A node's rows other than its parent are rows of its parent: when the parent is not solved
-// again, neither is it.
+// From the roots down, parents before children (a node's rows are its ancestors, so they are
+// solved first): the eliminated nodes, and the children of solved nodes with a row whose
+// solution changed (solveNode keeps only changes above the threshold). A node's rows other
+// than its parent are rows of its parent: when the parent is not solved again, neither is it.
 std::vector<int> BlockFactor::solve(double threshold) {
-  const auto later_first = [this](int a, int b) { return before(a, b); };
-  std::priority_queue<int, std::vector<int>, decltype(later_first)> pending(later_first);
+  std::vector<int> pending;
   for (int node : affected_list_) {
-    queued_[node] = 1;
-    pending.push(node);
+    if (parent_[node] < 0) pending.push_back(node);
   }
   std::vector<int> visited;
   std::vector<int> changed;
   while (!pending.empty()) {
-    const int p = pending.top();
-    pending.pop();
+    const int p = pending.back();
+    pending.pop_back();
     visited.push_back(p);
     const double change = solveNode(p, threshold);
     if (change > 0.0) changed.push_back(p);
     moved_[p] = change > 0.0 ? 1 : 0;
     for (int child : children_[p]) {
-      if (queued_[child] != 0) continue;
       const std::vector<int>& rows = columns_[child].rows;
-      if (std::none_of(rows.begin(), rows.end(), [this](int q) { return moved_[q] != 0; }))
-        continue;
-      queued_[child] = 1;
-      pending.push(child);
+      if (affected_[child] != 0 ||
+          std::any_of(rows.begin(), rows.end(), [this](int q) { return moved_[q] != 0; }))
+        pending.push_back(child);
     }
   }
-  for (int node : visited) queued_[node] = moved_[node] = 0;
+  for (int node : visited) moved_[node] = 0;
   for (int node : affected_list_) affected_[node] = 0;
   affected_list_.clear();
   return changed;
@@ -496,7 +489,13 @@ double BlockFactor::solveNode(int p, double threshold) {
   // general matrix-vector product.
   const Index h = c.height - dp;
   for (int k = 0; k < dp; ++k) rv[k] -= panel.col(k).tail(h).dot(gathered_);
-  panel.topRows(dp).transpose().triangularView<Eigen::Upper>().solveInPlace(rv);
+  // L(p, p)^T x = r by hand: Eigen's general triangular solver costs more than the few
+  // multiplications of a vertex block.
+  for (int k = dp - 1; k >= 0; --k) {
+    double v = rv[k];
+    for (int j = k + 1; j < dp; ++j) v -= panel(j, k) * rv[j];
+    rv[k] = v / panel(k, k);
+  }
   Eigen::Map<Eigen::VectorXd> x(x_.data() + starts_[p], dp);
   const double change = (rv - x).cwiseAbs().maxCoeff();
   if (change <= threshold) return 0.0;

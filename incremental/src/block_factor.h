@@ -119,10 +119,9 @@ class BlockFactor {
   // Per-node flags and their lists (reset by list, so an update costs what it touches):
   std::vector<char> affected_;  // by the last refactor
   std::vector<int> affected_list_;
-  std::vector<int> local_;    // orderAffected's node -> index among the affected
-  std::vector<char> queued_;  // solve's
-  std::vector<char> moved_;   // solve's: the solution changed by more than its threshold
-  std::vector<int> order_;    // the affected nodes in elimination order (a postorder)
+  std::vector<int> local_;   // orderAffected's node -> index among the affected
+  std::vector<char> moved_;  // solve's: the solution changed by more than its threshold
+  std::vector<int> order_;   // the affected nodes in elimination order (a postorder)
   std::vector<Column> columns_;
   // Elimination tree: a node's parent is its row of the smallest key (-1 for a root).
   std::vector<int> parent_;
