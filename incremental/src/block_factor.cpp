@@ -320,31 +320,36 @@ void BlockFactor::assembleFront(int first, int end, const Assemble& assemble) {
 }
 
 // Adds the update matrices and vectors of p's children (but the member of p's supernode
-// below it, which kept none) into the front's lower triangle (extend-add).
+// below it, which kept none) into the front's lower triangle (extend-add), entry by entry
+// through the front row of each update row.
 void BlockFactor::extendAddChildren(int p) {
+  std::vector<int>& target = extend_rows_;
   for (int child : children_[p]) {
     if (child == chain_child_[p]) continue;
     const Column& cc = columns_[child];
     const int dc = dims_[child];
     const int h = cc.height - dc;
-    const ConstMatrixMap update(cc.update.data(), h, h);
+    target.resize(h);
     for (std::size_t a = 0; a < cc.rows.size(); ++a) {
       const int qa = cc.rows[a];
-      const int da = dims_[qa];
       const int ua = cc.row_offsets[a] - dc;
-      const int fa = front_offset_[qa];
-      front_rhs_.segment(fa, da) += ConstVectorMap(cc.vector.data() + ua, da);
-      for (std::size_t b = 0; b <= a; ++b) {
-        // The child's rows need not be in key order: each block goes to the front's lower
-        // triangle, transposed when its row comes first there.
-        const int qb = cc.rows[b];
-        const int db = dims_[qb];
-        const int fb = front_offset_[qb];
-        const auto block = update.block(ua, cc.row_offsets[b] - dc, da, db);
-        if (fa >= fb) {
-          front_.block(fa, fb, da, db) += block;
+      for (int i = 0; i < dims_[qa]; ++i) target[ua + i] = front_offset_[qa] + i;
+    }
+    const double* update = cc.update.data();
+    double* front = front_.data();
+    const Index ld = front_.rows();
+    for (int j = 0; j < h; ++j) {
+      const Index fj = target[j];
+      front_rhs_[fj] += cc.vector[j];
+      // The child's rows need not be in key order: an entry whose front row comes first
+      // goes to the transposed place, in the lower triangle.
+      for (int i = j; i < h; ++i) {
+        const Index fi = target[i];
+        const double u = update[i + static_cast<Index>(j) * h];
+        if (fi >= fj) {
+          front[fi + fj * ld] += u;
         } else {
-          front_.block(fb, fa, db, da) += block.transpose();
+          front[fj + fi * ld] += u;
         }
       }
     }
@@ -468,8 +473,7 @@ double BlockFactor::solveNode(int p, double threshold) {
   gathered_.resize(c.height - dp);
   for (std::size_t j = 0; j < c.rows.size(); ++j) {
     const int q = c.rows[j];
-    gathered_.segment(c.row_offsets[j] - dp, dims_[q]) =
-        ConstVectorMap(x_.data() + starts_[q], dims_[q]);
+    std::copy_n(x_.data() + starts_[q], dims_[q], gathered_.data() + (c.row_offsets[j] - dp));
   }
   const ConstMatrixMap panel(c.panel.data(), c.height, dp);
   // Vertex dimensions are small: r lives on the stack (no allocation per solved node).

@@ -140,6 +140,7 @@ class BlockFactor {
   Eigen::VectorXd front_rhs_;
   std::vector<int> front_rows_;  // nodes of the front, in key order
   std::vector<int> front_offset_;
+  std::vector<int> extend_rows_;  // extendAddChildren's: front row of each update row
   std::vector<char> in_front_;
   Eigen::VectorXd gathered_;  // solveNode's
 };
