@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <new>
 #include <stdexcept>
 #include <utility>
 
@@ -298,7 +299,8 @@ void BlockFactor::assembleFront(int first, int end, const Assemble& assemble) {
     height += dims_[q];
   }
   // Only the lower triangle is read, so only the blocks on and below the diagonal are zeroed.
-  front_.resize(height, height);
+  front_storage_.resize(static_cast<std::size_t>(height) * height);
+  new (&front_) MatrixMap(front_storage_.data(), height, height);  // Eigen's way to re-seat a Map
   for (int q : front_rows_) {
     const int fq = front_offset_[q];
     front_.block(fq, fq, height - fq, dims_[q]).setZero();
@@ -340,7 +342,7 @@ void BlockFactor::extendAddChildren(int p) {
     const Index ld = front_.rows();
     for (int j = 0; j < h; ++j) {
       const Index fj = target[j];
-      front_rhs_[fj] += cc.vector[j];
+      front_rhs_[fj] += cc.vector.data()[j];
       // The child's rows need not be in key order: an entry whose front row comes first
       // goes to the transposed place, in the lower triangle.
       for (int i = j; i < h; ++i) {

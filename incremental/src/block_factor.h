@@ -14,6 +14,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace graphslam::incremental {
@@ -37,6 +38,29 @@ class ColumnBuilder {
   std::vector<int> offsets_;  // start of each row's block in values_
   std::vector<double> values_;
   std::vector<double> rhs_;
+};
+
+/// An array of doubles that keeps its capacity and leaves its entries uninitialised when it
+/// grows (the old entries are not kept): every user writes the entries it reads, so
+/// eliminating a node again neither zeroes its arrays nor maps fresh pages for them.
+class Storage {
+ public:
+  void resize(std::size_t n) {
+    if (n > capacity_) {
+      data_.reset(new double[n]);
+      capacity_ = n;
+    }
+    size_ = n;
+  }
+  void clear() { size_ = 0; }
+  [[nodiscard]] std::size_t size() const { return size_; }
+  [[nodiscard]] double* data() { return data_.get(); }
+  [[nodiscard]] const double* data() const { return data_.get(); }
+
+ private:
+  std::unique_ptr<double[]> data_;
+  std::size_t capacity_ = 0;
+  std::size_t size_ = 0;
 };
 
 class BlockFactor {
@@ -90,11 +114,11 @@ class BlockFactor {
     std::vector<int> rows;         // nodes q after this one with L(q, p) != 0
     std::vector<int> row_offsets;  // first panel row of each, after the d_p diagonal rows
     int height = 0;                // d_p + sum of the rows' dimensions
-    std::vector<double> panel;     // height x d_p, column-major: L(p, p) then L(q, p)
+    Storage panel;                 // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
     // (empty for a supernode member below the last, chain_child_ of its parent):
-    std::vector<double> update;  // h x h, lower triangle: the Schur complement onto the rows
-    std::vector<double> vector;  // h: the forward solution's contribution
+    Storage update;  // h x h, lower triangle: the Schur complement onto the rows
+    Storage vector;  // h: the forward solution's contribution
   };
   [[nodiscard]] int parent(int node) const { return parent_[node]; }
   std::vector<int> affectedNodes(const std::vector<int>& changed);
@@ -136,7 +160,8 @@ class BlockFactor {
   ColumnBuilder builder_;
   // The frontal matrix of the node being eliminated (its column and rows) and its
   // right-hand side; front_offset_ maps a node to its first row in them.
-  Eigen::MatrixXd front_;
+  Storage front_storage_;
+  Eigen::Map<Eigen::MatrixXd> front_{nullptr, 0, 0};  // on front_storage_
   Eigen::VectorXd front_rhs_;
   std::vector<int> front_rows_;  // nodes of the front, in key order
   std::vector<int> front_offset_;
