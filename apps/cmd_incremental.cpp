@@ -23,8 +23,9 @@ namespace {
 
 constexpr const char* kIncrementalUsage =
     "usage: graphslam incremental IN.g2o [-o OUT.g2o] [--stats FILE.csv] [--plot FILE.png]\n"
-    "                             [--relinearize-threshold X] [--backsubstitution-fraction F]\n"
-    "                             [--check-every N] [--refine X] [--plugin LIB]...\n"
+    "                             [--relinearize-threshold X] [--relinearize-skip N]\n"
+    "                             [--backsubstitution-fraction F] [--check-every N]\n"
+    "                             [--refine X] [--plugin LIB]...\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
     "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
@@ -59,6 +60,9 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       po::value(&opt.relinearize_threshold)->default_value(opt.relinearize_threshold),
       "relinearise a vertex when an entry of its step from its linearisation point exceeds "
       "this (metres, radians)")(
+      "relinearize-skip", po::value(&opt.relinearize_skip)->default_value(opt.relinearize_skip),
+      "check for vertices to relinearise at every N-th update only (iSAM2's "
+      "relinearizeSkip; the others solve at the current linearisation points)")(
       "backsubstitution-fraction",
       po::value(&opt.backsubstitution_fraction)->default_value(opt.backsubstitution_fraction),
       "back-substitution keeps a vertex's new step only when it differs from the old by more "
@@ -82,6 +86,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
   }
+  if (opt.relinearize_skip < 1) throw UsageError("--relinearize-skip must be at least 1");
   if (!(opt.backsubstitution_fraction >= 0 && std::isfinite(opt.backsubstitution_fraction))) {
     throw UsageError("--backsubstitution-fraction must be a finite number >= 0");
   }
@@ -109,10 +114,10 @@ double percentile(const std::vector<double>& sorted, double p) {
 
 void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
   std::printf(
-      "replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g, back-substitution "
-      "fraction %g\n",
+      "replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g, relinearize skip "
+      "%d, back-substitution fraction %g\n",
       r.steps.size(), r.pose_tag.c_str(), r.num_landmarks, o.replay.optimizer.relinearize_threshold,
-      o.replay.optimizer.backsubstitution_fraction);
+      o.replay.optimizer.relinearize_skip, o.replay.optimizer.backsubstitution_fraction);
   if (r.initialised_from_file > 0 || r.gaps > 0) {
     std::printf(
         "  file's estimate kept: %d vertices their first edge does not determine, %d poses "

@@ -383,15 +383,20 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
 // Adds (sign 1) or takes back (-1) a factor's diagonal blocks and gradients in its
 // variables' sums.
 void IncrementalOptimizer::Impl::addDiagonal(const Factor& f, double sign) {
-  const Eigen::Map<const Eigen::MatrixXd> h(f.hessian.data(), f.dim, f.dim);
+  // Plain loops: the blocks are a vertex's few rows, below what Eigen's block expressions
+  // pay for themselves.
   for (std::size_t a = 0; a < f.vars.size(); ++a) {
     if (f.vars[a] < 0) continue;
     Variable& v = vars[f.vars[a]];
-    const int d = v.vertex->dimension();
-    const int at = f.offsets[a];
-    Eigen::Map<Eigen::MatrixXd>(v.diagonal.data(), d, d) += sign * h.block(at, at, d, d);
-    Eigen::Map<Eigen::VectorXd>(v.rhs.data(), d) -=
-        sign * Eigen::Map<const Eigen::VectorXd>(f.gradient.data() + at, d);
+    const auto d = static_cast<std::size_t>(v.rhs.size());
+    const auto at = static_cast<std::size_t>(f.offsets[a]);
+    const auto ld = static_cast<std::size_t>(f.dim);
+    for (std::size_t c = 0; c < d; ++c) {
+      const double* h = f.hessian.data() + at + (at + c) * ld;
+      double* out = v.diagonal.data() + c * d;
+      for (std::size_t r = 0; r < d; ++r) out[r] += sign * h[r];
+      v.rhs[c] -= sign * f.gradient[at + c];
+    }
     ++v.sum_changes;
   }
 }
