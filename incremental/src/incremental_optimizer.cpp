@@ -68,6 +68,8 @@ struct IncrementalOptimizer::Impl {
   void resum(int var);
   void assemble(int p, ColumnBuilder& builder) const;
   void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
+  void defer(const std::vector<int>& far);
+  void takeDeferred(double threshold, std::vector<int>& far);
   void remember(int var);
   void restoreAfterFailure(int node);
 
@@ -91,6 +93,10 @@ struct IncrementalOptimizer::Impl {
   std::vector<double> undo_data;
   std::vector<char> remembered;  // per variable: in the undo log
   std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
+  // Variables whose step exceeded the threshold at an update that did not check
+  // (relinearize_skip): the next check relinearises those still beyond it.
+  std::vector<int> deferred;
+  std::vector<char> deferred_flag;  // per variable: in `deferred`
 };
 
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
@@ -228,7 +234,12 @@ bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vect
     }
     far.clear();
     applySteps(factor.solve(threshold * options.backsubstitution_fraction), threshold, far);
-    if (far.empty() || !relinearize) break;
+    if (!relinearize) {
+      defer(far);
+      break;
+    }
+    if (stats.passes == 1) takeDeferred(threshold, far);
+    if (far.empty()) break;
     if (stats.passes == options.max_passes) {
       stats.pass_limit_reached = true;
       break;
@@ -266,6 +277,8 @@ void IncrementalOptimizer::Impl::rebuild() {
   new_edges.clear();
   remembered.clear();
   moved_flag.clear();
+  deferred.clear();
+  deferred_flag.clear();
   for (const auto& e : graph.edges()) new_edges.push_back(e.get());
   needs_rebuild = false;
 }
@@ -283,6 +296,7 @@ int IncrementalOptimizer::Impl::variableFor(Vertex& v) {
   vars.push_back(std::move(var));
   remembered.push_back(0);
   moved_flag.push_back(0);
+  deferred_flag.push_back(0);
   return it->second;
 }
 
@@ -449,6 +463,26 @@ void IncrementalOptimizer::Impl::applySteps(const std::vector<int>& nodes, doubl
     v.vertex->oplus(x.data());
     if (x.cwiseAbs().maxCoeff() > threshold) far.push_back(var);
   }
+}
+
+void IncrementalOptimizer::Impl::defer(const std::vector<int>& far) {
+  for (int var : far) {
+    if (deferred_flag[var] != 0) continue;
+    deferred_flag[var] = 1;
+    deferred.push_back(var);
+  }
+}
+
+// Adds to `far` the deferred variables whose step still exceeds `threshold` (those solved in
+// this pass are there already).
+void IncrementalOptimizer::Impl::takeDeferred(double threshold, std::vector<int>& far) {
+  for (int var : far) deferred_flag[var] = 0;
+  for (int var : deferred) {
+    if (deferred_flag[var] == 0) continue;
+    deferred_flag[var] = 0;
+    if (factor.solution(var).cwiseAbs().maxCoeff() > threshold) far.push_back(var);
+  }
+  deferred.clear();
 }
 
 void IncrementalOptimizer::Impl::remember(int var) {
