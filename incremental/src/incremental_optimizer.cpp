@@ -12,6 +12,13 @@ namespace graphslam::incremental {
 
 namespace {
 
+// A variable's sums are summed afresh once they have changed more than this many times per
+// factor, plus the slack (so a variable with few factors is not resummed at every change):
+// the rounding of adding and taking back blocks then never builds up beyond that of a few
+// fresh sums, and resumming costs a constant share of the changes.
+constexpr std::size_t kResumPerFactor = 4;
+constexpr std::size_t kResumSlack = 16;
+
 // Where a factor's block H(other, v) of a variable v lies in the factor's `hessian`.
 struct Link {
   int factor = -1;
@@ -34,8 +41,7 @@ struct Variable {
   std::vector<double> diagonal;  // dim x dim, column-major
   std::vector<double> rhs;       // dim
   std::vector<Link> links;       // per factor, one per other free vertex of it
-  // Changes of the sums since they were last summed afresh: resum() bounds the rounding
-  // that adding and taking back blocks leaves in them.
+  // Changes of the sums since they were last summed afresh (kResumPerFactor).
   std::size_t sum_changes = 0;
 };
 
@@ -390,7 +396,8 @@ void IncrementalOptimizer::Impl::linearize(const std::vector<int>& factor_ids,
   std::sort(changed_nodes.begin(), changed_nodes.end());
   changed_nodes.erase(std::unique(changed_nodes.begin(), changed_nodes.end()), changed_nodes.end());
   for (int var : changed_nodes) {
-    if (vars[var].sum_changes > 4 * vars[var].factors.size() + 16) resum(var);
+    if (vars[var].sum_changes > kResumPerFactor * vars[var].factors.size() + kResumSlack)
+      resum(var);
   }
 }
 

@@ -202,48 +202,54 @@ TEST(Incremental, RelinearisationSkipStillEndsAtTheOptimumAfterRefine) {
   expectBatchAgreement(options, 1.0, 5e-2);
 }
 
-TEST(Incremental, RelinearisationSkipChecksTheStepsOfTheUpdatesBetween) {
-  // A chain of poses, relinearisation checked at every third update. Update 1 (no check) moves
-  // pose 2 by 0.5 > the threshold; updates 2 and 3 add edges that agree with the estimates, so
-  // pose 2's step does not change again. The check of update 3 must still relinearise it:
-  // afterwards refine() at the threshold has nothing left to do.
-  Graph graph;
-  incremental::Options options;
-  options.relinearize_skip = 3;
-  IncrementalOptimizer inc(graph, options);
-  const auto add_pose = [&](int id, double x) {
+// A chain of SE2 poses along x with odometry edges, built through an IncrementalOptimizer.
+class ChainOnX {
+ public:
+  explicit ChainOnX(const incremental::Options& options) : inc(graph, options) {}
+  void addPose(int id, double x) {
     auto v = std::make_unique<types_slam2d::VertexSE2>();
     v->setId(id);
     v->setEstimate(SE2(x, 0.0, 0.0));
     inc.addVertex(std::move(v));
-  };
-  const auto add_odometry = [&](int from, double dx) {
+  }
+  void addOdometry(int from, double dx) {
     auto e = std::make_unique<types_slam2d::EdgeSE2>();
     e->setVertexIds({from, from + 1});
     e->setMeasurement(SE2(dx, 0.0, 0.0));
     e->setInformation(Eigen::Matrix3d::Identity());
     inc.addEdge(std::move(e));
-  };
-  add_pose(0, 0.0);
-  add_pose(1, 1.0);
-  add_odometry(0, 1.0);
-  ASSERT_TRUE(inc.update());  // update 0: checks
-  add_pose(2, 2.0);
-  add_odometry(1, 1.5);
-  ASSERT_TRUE(inc.update());  // update 1: pose 2 moves to 2.5, not relinearised
-  EXPECT_EQ(inc.lastStats().relinearized_vertices, 0);
-  add_pose(3, 3.5);
-  add_odometry(2, 1.0);
-  ASSERT_TRUE(inc.update());  // update 2
-  add_pose(4, 4.5);
-  add_odometry(3, 1.0);
-  ASSERT_TRUE(inc.update());  // update 3: checks
-  EXPECT_GE(inc.lastStats().relinearized_vertices, 1);
-  ASSERT_TRUE(inc.refine(options.relinearize_threshold));
-  EXPECT_EQ(inc.lastStats().relinearized_vertices, 0);
-  EXPECT_NEAR(
-      static_cast<const types_slam2d::VertexSE2&>(*graph.vertex(4)).estimate().translation().x(),
-      4.5, 1e-9);
+  }
+  Graph graph;
+  IncrementalOptimizer inc;
+};
+
+TEST(Incremental, RelinearisationSkipChecksTheStepsOfTheUpdatesBetween) {
+  // Relinearisation checked at every third update. Update 1 (no check) moves pose 2 by
+  // 0.5 > the threshold; updates 2 and 3 add edges that agree with the estimates, so pose 2's
+  // step does not change again. The check of update 3 must still relinearise it: afterwards
+  // refine() at the threshold has nothing left to do.
+  incremental::Options options;
+  options.relinearize_skip = 3;
+  ChainOnX chain(options);
+  chain.addPose(0, 0.0);
+  chain.addPose(1, 1.0);
+  chain.addOdometry(0, 1.0);
+  ASSERT_TRUE(chain.inc.update());  // update 0: checks
+  chain.addPose(2, 2.0);
+  chain.addOdometry(1, 1.5);
+  ASSERT_TRUE(chain.inc.update());  // update 1: pose 2 moves to 2.5, not relinearised
+  EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
+  chain.addPose(3, 3.5);
+  chain.addOdometry(2, 1.0);
+  ASSERT_TRUE(chain.inc.update());  // update 2
+  chain.addPose(4, 4.5);
+  chain.addOdometry(3, 1.0);
+  ASSERT_TRUE(chain.inc.update());  // update 3: checks
+  EXPECT_GE(chain.inc.lastStats().relinearized_vertices, 1);
+  ASSERT_TRUE(chain.inc.refine(options.relinearize_threshold));
+  EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
+  const auto& last = static_cast<const types_slam2d::VertexSE2&>(*chain.graph.vertex(4));
+  EXPECT_NEAR(last.estimate().translation().x(), 4.5, 1e-9);
 }
 
 TEST(Incremental, UpdateAfterOdometryOnlyTouchesFewColumns) {
