@@ -31,9 +31,10 @@ struct Options {
   /// relinearizeSkip, there 10 by default); the other updates solve the new edges at the
   /// current linearisation points in one pass, and the vertices whose step exceeded the
   /// threshold meanwhile are relinearised at the next check (when it still does). 10 takes
-  /// a third to two thirds off the replays' time and ends them about as close to the optimum
-  /// (docs/BENCHMARKS.md, "Incremental optimisation"), but the updates between checks stand
-  /// further from a batch solve of the same graph; 1 keeps every update within the threshold.
+  /// a third to two thirds off the replays of five of the seven public files (not m3500's or
+  /// intel's) and ends them about as close to the optimum (docs/BENCHMARKS.md, "Incremental
+  /// optimisation"), but the updates between checks stand further from a batch solve of the
+  /// same graph; 1 keeps every update within the threshold.
   int relinearize_skip = 1;
   /// Back-substitution solves a vertex again only when it is re-eliminated or a step it
   /// depends on changed, and keeps the new step only when it differs from the old by more
