@@ -388,8 +388,6 @@ bool BlockFactor::factorFront(int first, int end) {
     c.row_offsets.clear();
     for (int q : c.rows) c.row_offsets.push_back(front_offset_[q] - top);
     c.height = static_cast<int>(front_.rows()) - top;
-    c.update.clear();
-    c.vector.clear();
     c.panel.resize(static_cast<std::size_t>(c.height) * dp);
     MatrixMap panel(c.panel.data(), c.height, dp);
     panel = front_.block(top, top, c.height, dp);

@@ -45,22 +45,19 @@ class ColumnBuilder {
 /// eliminating a node again neither zeroes its arrays nor maps fresh pages for them.
 class Storage {
  public:
+  /// Room for at least n entries.
   void resize(std::size_t n) {
     if (n > capacity_) {
       data_.reset(new double[n]);
       capacity_ = n;
     }
-    size_ = n;
   }
-  void clear() { size_ = 0; }
-  [[nodiscard]] std::size_t size() const { return size_; }
   [[nodiscard]] double* data() { return data_.get(); }
   [[nodiscard]] const double* data() const { return data_.get(); }
 
  private:
   std::unique_ptr<double[]> data_;
   std::size_t capacity_ = 0;
-  std::size_t size_ = 0;
 };
 
 class BlockFactor {
@@ -116,7 +113,7 @@ class BlockFactor {
     int height = 0;                // d_p + sum of the rows' dimensions
     Storage panel;                 // height x d_p, column-major: L(p, p) then L(q, p)
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
-    // (empty for a supernode member below the last, chain_child_ of its parent):
+    // (left stale, and never read, for a supernode member below the last):
     Storage update;  // h x h, lower triangle: the Schur complement onto the rows
     Storage vector;  // h: the forward solution's contribution
   };
