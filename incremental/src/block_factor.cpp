@@ -143,32 +143,57 @@ std::vector<int> BlockFactor::affectedNodes(const std::vector<int>& changed) {
 std::vector<int> BlockFactor::orderAffected(const std::vector<int>& affected,
                                             const std::vector<int>& last,
                                             const Neighbors& neighbors) {
+  const int n = static_cast<int>(affected.size());
   std::vector<int>& local = local_;
-  for (std::size_t i = 0; i < affected.size(); ++i) local[affected[i]] = static_cast<int>(i);
-  std::vector<std::vector<int>> adjacency(affected.size());
-  std::vector<int> around;
-  for (std::size_t i = 0; i < affected.size(); ++i) {
-    const int node = affected[i];
-    around.clear();
-    neighbors(node, around);
-    for (int q : around) {
-      if (local[q] >= 0 && q != node) adjacency[i].push_back(local[q]);
-    }
+  for (int i = 0; i < n; ++i) local[affected[i]] = i;
+  // An unaffected subtree passes its root's update matrix up: a dense clique on that root's
+  // rows, which are all affected (ancestors of an affected node). Which cliques each
+  // affected node is in, as compressed lists (a counting sort).
+  OrderingScratch& o = ordering_;
+  o.cliques.clear();
+  for (int node : affected) {
     for (int k : children_[node]) {
-      if (affected_[k] != 0) continue;
-      const std::vector<int>& clique = columns_[k].rows;
-      for (int a : clique) {
-        for (int b : clique) {
-          if (a != b) adjacency[local[a]].push_back(local[b]);
-        }
-      }
+      if (affected_[k] == 0) o.cliques.push_back(k);
     }
+  }
+  o.member_ptr.assign(n + 1, 0);
+  for (int k : o.cliques) {
+    for (int a : columns_[k].rows) ++o.member_ptr[local[a] + 1];
+  }
+  for (int i = 0; i < n; ++i) o.member_ptr[i + 1] += o.member_ptr[i];
+  o.member_of.resize(o.member_ptr[n]);
+  o.cursor.assign(o.member_ptr.begin(), o.member_ptr.end() - 1);
+  for (int c = 0; c < static_cast<int>(o.cliques.size()); ++c) {
+    for (int a : columns_[o.cliques[c]].rows) o.member_of[o.cursor[local[a]]++] = c;
+  }
+  // Column i of the pattern: node i's neighbours in H and its cliques' other members.
+  BlockPattern& pattern = o.pattern;
+  pattern.col_ptr.assign(n + 1, 0);
+  pattern.rows.clear();
+  o.mark.assign(n, -1);
+  std::vector<int> around;
+  const auto add = [&](int i, int j) {
+    if (o.mark[j] == i) return;
+    o.mark[j] = i;
+    pattern.rows.push_back(j);
+  };
+  for (int i = 0; i < n; ++i) {
+    o.mark[i] = i;
+    around.clear();
+    neighbors(affected[i], around);
+    for (int q : around) {
+      if (local[q] >= 0) add(i, local[q]);
+    }
+    for (int m = o.member_ptr[i]; m < o.member_ptr[i + 1]; ++m) {
+      for (int a : columns_[o.cliques[o.member_of[m]]].rows) add(i, local[a]);
+    }
+    pattern.col_ptr[i + 1] = static_cast<int>(pattern.rows.size());
   }
   std::vector<char> at_end(affected.size(), 0);
   for (int node : last) {
     if (local[node] >= 0) at_end[local[node]] = 1;
   }
-  std::vector<int> order = constrainedBlockOrdering(adjacency, at_end);
+  std::vector<int> order = constrainedBlockOrdering(pattern, at_end);
   for (int& i : order) i = affected[i];
   for (int node : affected) local[node] = -1;
   return order;

@@ -17,6 +17,8 @@
 #include <memory>
 #include <vector>
 
+#include "ordering.h"
+
 namespace graphslam::incremental {
 
 /// Receives the blocks of one column p of H (rows q at or after p) and the right-hand side.
@@ -140,7 +142,13 @@ class BlockFactor {
   // Per-node flags and their lists (reset by list, so an update costs what it touches):
   std::vector<char> affected_;  // by the last refactor
   std::vector<int> affected_list_;
-  std::vector<int> local_;   // orderAffected's node -> index among the affected
+  std::vector<int> local_;     // orderAffected's node -> index among the affected
+  struct OrderingScratch {     // orderAffected's, kept for their capacity
+    std::vector<int> cliques;  // the unaffected children of affected nodes
+    std::vector<int> member_ptr, member_of, cursor;  // affected index -> its cliques
+    std::vector<int> mark;
+    BlockPattern pattern;
+  } ordering_;
   std::vector<char> moved_;  // solve's: the solution changed by more than its threshold
   std::vector<int> order_;   // the affected nodes in elimination order (a postorder)
   std::vector<Column> columns_;
