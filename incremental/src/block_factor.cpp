@@ -326,11 +326,13 @@ void BlockFactor::assembleFront(int first, int end, const Assemble& assemble) {
   // Only the lower triangle is read, so only the blocks on and below the diagonal are zeroed.
   front_storage_.resize(static_cast<std::size_t>(height) * height);
   new (&front_) MatrixMap(front_storage_.data(), height, height);  // Eigen's way to re-seat a Map
+  front_rhs_storage_.resize(height);
+  new (&front_rhs_) Eigen::Map<Eigen::VectorXd>(front_rhs_storage_.data(), height);
   for (int q : front_rows_) {
     const int fq = front_offset_[q];
     front_.block(fq, fq, height - fq, dims_[q]).setZero();
   }
-  front_rhs_.setZero(height);
+  front_rhs_.setZero();
   for (int i = first; i < end; ++i) {
     const int p = order_[i];
     builder_.begin(p, dims_);
@@ -495,11 +497,13 @@ std::vector<int> BlockFactor::solve(double threshold) {
 double BlockFactor::solveNode(int p, double threshold) {
   const Column& c = columns_[p];
   const int dp = dims_[p];
-  gathered_.resize(c.height - dp);
+  const Index h = c.height - dp;
+  gathered_.resize(h);
   for (std::size_t j = 0; j < c.rows.size(); ++j) {
     const int q = c.rows[j];
     std::copy_n(x_.data() + starts_[q], dims_[q], gathered_.data() + (c.row_offsets[j] - dp));
   }
+  const ConstVectorMap gathered(gathered_.data(), h);
   const ConstMatrixMap panel(c.panel.data(), c.height, dp);
   // Vertex dimensions are small: r lives on the stack (no allocation per solved node).
   using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStackDim, 1>;
@@ -516,8 +520,7 @@ double BlockFactor::solveNode(int p, double threshold) {
   rv = ConstVectorMap(y_.data() + starts_[p], dp);
   // One dot product per column: for the few columns of a vertex this is cheaper than a
   // general matrix-vector product.
-  const Index h = c.height - dp;
-  for (int k = 0; k < dp; ++k) rv[k] -= panel.col(k).tail(h).dot(gathered_);
+  for (int k = 0; k < dp; ++k) rv[k] -= panel.col(k).tail(h).dot(gathered);
   // L(p, p)^T x = r by hand: Eigen's general triangular solver costs more than the few
   // multiplications of a vertex block.
   for (int k = dp - 1; k >= 0; --k) {

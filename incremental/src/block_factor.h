@@ -167,12 +167,13 @@ class BlockFactor {
   // right-hand side; front_offset_ maps a node to its first row in them.
   Storage front_storage_;
   Eigen::Map<Eigen::MatrixXd> front_{nullptr, 0, 0};  // on front_storage_
-  Eigen::VectorXd front_rhs_;
-  std::vector<int> front_rows_;  // nodes of the front, in key order
+  Storage front_rhs_storage_;
+  Eigen::Map<Eigen::VectorXd> front_rhs_{nullptr, 0};  // on front_rhs_storage_
+  std::vector<int> front_rows_;                        // nodes of the front, in key order
   std::vector<int> front_offset_;
   std::vector<int> extend_rows_;  // extendAddChildren's: front row of each update row
   std::vector<char> in_front_;
-  Eigen::VectorXd gathered_;  // solveNode's
+  Storage gathered_;  // solveNode's
 };
 
 }  // namespace graphslam::incremental
