@@ -24,7 +24,8 @@ namespace {
 constexpr const char* kIncrementalUsage =
     "usage: graphslam incremental IN.g2o [-o OUT.g2o] [--stats FILE.csv] [--plot FILE.png]\n"
     "                             [--relinearize-threshold X] [--relinearize-skip N]\n"
-    "                             [--backsubstitution-fraction F] [--check-every N]\n"
+    "                             [--max-passes N] [--backsubstitution-fraction F]\n"
+    "                             [--check-every N]\n"
     "                             [--refine X] [--plugin LIB]...\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
@@ -63,6 +64,10 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "relinearize-skip", po::value(&opt.relinearize_skip)->default_value(opt.relinearize_skip),
       "check for vertices to relinearise at every N-th update only (iSAM2's "
       "relinearizeSkip; the others solve at the current linearisation points)")(
+      "max-passes", po::value(&opt.max_passes)->default_value(opt.max_passes),
+      "relinearise-and-solve passes per update at most; the vertices still beyond the "
+      "threshold are relinearised at the next update that checks (1: iSAM2's one solve per "
+      "update, relinearising at its start)")(
       "backsubstitution-fraction",
       po::value(&opt.backsubstitution_fraction)->default_value(opt.backsubstitution_fraction),
       "back-substitution keeps a vertex's new step only when it differs from the old by more "
@@ -87,6 +92,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
   }
   if (opt.relinearize_skip < 1) throw UsageError("--relinearize-skip must be at least 1");
+  if (opt.max_passes < 1) throw UsageError("--max-passes must be at least 1");
   if (!(opt.backsubstitution_fraction >= 0 && std::isfinite(opt.backsubstitution_fraction))) {
     throw UsageError("--backsubstitution-fraction must be a finite number >= 0");
   }
@@ -115,9 +121,10 @@ double percentile(const std::vector<double>& sorted, double p) {
 void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
   std::printf(
       "replay: %zu steps (poses %s), %zu landmarks, relinearize threshold %g, relinearize skip "
-      "%d, back-substitution fraction %g\n",
+      "%d, max passes %d, back-substitution fraction %g\n",
       r.steps.size(), r.pose_tag.c_str(), r.num_landmarks, o.replay.optimizer.relinearize_threshold,
-      o.replay.optimizer.relinearize_skip, o.replay.optimizer.backsubstitution_fraction);
+      o.replay.optimizer.relinearize_skip, o.replay.optimizer.max_passes,
+      o.replay.optimizer.backsubstitution_fraction);
   if (r.initialised_from_file > 0 || r.gaps > 0) {
     std::printf(
         "  file's estimate kept: %d vertices their first edge does not determine, %d poses "

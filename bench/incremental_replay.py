@@ -8,7 +8,7 @@ step) and compares its end with the batch optimum. Prints one markdown table.
 
 usage: bench/incremental_replay.py GRAPHSLAM [--data DIR] [--files a,b] [--timeout S]
                                    [--relinearize-threshold X] [--relinearize-skip N]
-                                   [--refine X] [--backsubstitution-fraction F]
+                                   [--max-passes N] [--refine X] [--backsubstitution-fraction F]
                                    [--isam2 PATH [--isam2-arg A]...]
 
 GRAPHSLAM is the graphslam binary; --data the datasets folder (default $GRAPHSLAM_DATA, else
@@ -123,6 +123,7 @@ def main():
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds per run")
     ap.add_argument("--relinearize-threshold", type=float, default=None)
     ap.add_argument("--relinearize-skip", type=int, default=None)
+    ap.add_argument("--max-passes", type=int, default=None)
     ap.add_argument("--backsubstitution-fraction", type=float, default=None)
     ap.add_argument("--refine", type=float, default=1e-6,
                     help="passed on to graphslam incremental (0: no refine)")
@@ -142,6 +143,8 @@ def main():
             cmd += ["--relinearize-threshold", repr(args.relinearize_threshold)]
         if args.relinearize_skip is not None:
             cmd += ["--relinearize-skip", str(args.relinearize_skip)]
+        if args.max_passes is not None:
+            cmd += ["--max-passes", str(args.max_passes)]
         if args.backsubstitution_fraction is not None:
             cmd += ["--backsubstitution-fraction", repr(args.backsubstitution_fraction)]
         if args.refine > 0:

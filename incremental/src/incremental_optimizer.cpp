@@ -64,7 +64,7 @@ struct IncrementalOptimizer::Impl {
   bool update();
   bool refine(double threshold);
   bool solve(std::vector<int> touched, const std::vector<int>& last, double threshold,
-             bool relinearize);
+             bool relinearize, int max_passes);
   std::vector<int> relinearizeVertices(const std::vector<int>& far);
   void rebuild();
   void integrateNewEdges(std::vector<int>& touched);
@@ -76,6 +76,7 @@ struct IncrementalOptimizer::Impl {
   void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
   void defer(const std::vector<int>& far);
   void takeDeferred(double threshold, std::vector<int>& far);
+  void relinearizeDeferred(std::vector<int>& touched);
   void remember(int var);
   void restoreAfterFailure(int node);
 
@@ -108,11 +109,12 @@ struct IncrementalOptimizer::Impl {
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
     : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
   if (!(options_.relinearize_threshold >= 0.0) || options_.max_passes < 1 ||
-      options_.relinearize_skip < 1 || !(options_.backsubstitution_fraction >= 0.0) ||
-      options_.chain_min_front_rows < 1) {
+      options_.refine_max_passes < 1 || options_.relinearize_skip < 1 ||
+      !(options_.backsubstitution_fraction >= 0.0) || options_.chain_min_front_rows < 1) {
     throw Error(
         "IncrementalOptimizer: an option is out of its range (relinearize_threshold and "
-        "backsubstitution_fraction >= 0, max_passes >= 1, relinearize_skip >= 1, "
+        "backsubstitution_fraction >= 0, max_passes and refine_max_passes >= 1, "
+        "relinearize_skip >= 1, "
         "chain_min_front_rows >= 1)");
   }
   impl_->version = graph_.structureVersion();
@@ -200,7 +202,10 @@ bool IncrementalOptimizer::Impl::update() {
   }
   const bool check = options.relinearize_skip <= 1 || update_count % options.relinearize_skip == 0;
   ++update_count;
-  return solve(std::move(touched), last, options.relinearize_threshold, check);
+  // With one pass per update there is no second pass for the deferred vertices to join:
+  // they are relinearised before the first, with the new edges (iSAM2's order).
+  if (check && options.max_passes == 1) relinearizeDeferred(touched);
+  return solve(std::move(touched), last, options.relinearize_threshold, check, options.max_passes);
 }
 
 bool IncrementalOptimizer::Impl::refine(double threshold) {
@@ -215,14 +220,15 @@ bool IncrementalOptimizer::Impl::refine(double threshold) {
     if (x.cwiseAbs().maxCoeff() > threshold) far.push_back(static_cast<int>(var));
   }
   if (far.empty()) return true;
-  return solve(relinearizeVertices(far), {}, threshold, true);
+  return solve(relinearizeVertices(far), {}, threshold, true, options.refine_max_passes);
 }
 
-// Relinearise-and-solve passes: the factors in `touched` are linearised, their columns and
-// ancestors eliminated again and the system solved; vertices whose step exceeds `threshold`
-// are relinearised for the next pass (when `relinearize` is set).
+// Relinearise-and-solve passes, at most `max_passes`: the factors in `touched` are
+// linearised, their columns and ancestors eliminated again and the system solved; vertices
+// whose step exceeds `threshold` are relinearised for the next pass (when `relinearize` is
+// set) or, after the last, deferred to the next update that checks.
 bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vector<int>& last,
-                                       double threshold, bool relinearize) {
+                                       double threshold, bool relinearize, int max_passes) {
   const auto neighbors = [this](int node, std::vector<int>& out) {
     for (const Link& l : vars[node].links) out.push_back(l.other);
   };
@@ -246,8 +252,9 @@ bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vect
     }
     if (stats.passes == 1) takeDeferred(threshold, far);
     if (far.empty()) break;
-    if (stats.passes == options.max_passes) {
+    if (stats.passes == max_passes) {
       stats.pass_limit_reached = true;
+      defer(far);
       break;
     }
     touched = relinearizeVertices(far);
@@ -490,6 +497,18 @@ void IncrementalOptimizer::Impl::takeDeferred(double threshold, std::vector<int>
     if (factor.solution(var).cwiseAbs().maxCoeff() > threshold) far.push_back(var);
   }
   deferred.clear();
+}
+
+// Relinearises the deferred variables whose step still exceeds the threshold and adds their
+// factors to `touched`.
+void IncrementalOptimizer::Impl::relinearizeDeferred(std::vector<int>& touched) {
+  std::vector<int> far;
+  takeDeferred(options.relinearize_threshold, far);
+  if (far.empty()) return;
+  const std::vector<int> more = relinearizeVertices(far);
+  touched.insert(touched.end(), more.begin(), more.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
 }
 
 void IncrementalOptimizer::Impl::remember(int var) {

@@ -219,6 +219,23 @@ class ChainOnX {
     e->setInformation(Eigen::Matrix3d::Identity());
     inc.addEdge(std::move(e));
   }
+  // Poses 0 and 1 (update 0), then pose 2 placed at 2.0 with odometry of 1.5 (update 1,
+  // which moves it by 0.5, above the default threshold).
+  [[nodiscard]] bool startWithAJump() {
+    addPose(0, 0.0);
+    addPose(1, 1.0);
+    addOdometry(0, 1.0);
+    if (!inc.update()) return false;
+    addPose(2, 2.0);
+    addOdometry(1, 1.5);
+    return inc.update();
+  }
+  // Pose `id` at x with odometry that agrees with the estimates (pose id - 1 is at x - 1).
+  [[nodiscard]] bool addAgreeingPose(int id, double x) {
+    addPose(id, x);
+    addOdometry(id - 1, 1.0);
+    return inc.update();
+  }
   Graph graph;
   IncrementalOptimizer inc;
 };
@@ -231,25 +248,39 @@ TEST(Incremental, RelinearisationSkipChecksTheStepsOfTheUpdatesBetween) {
   incremental::Options options;
   options.relinearize_skip = 3;
   ChainOnX chain(options);
-  chain.addPose(0, 0.0);
-  chain.addPose(1, 1.0);
-  chain.addOdometry(0, 1.0);
-  ASSERT_TRUE(chain.inc.update());  // update 0: checks
-  chain.addPose(2, 2.0);
-  chain.addOdometry(1, 1.5);
-  ASSERT_TRUE(chain.inc.update());  // update 1: pose 2 moves to 2.5, not relinearised
+  ASSERT_TRUE(chain.startWithAJump());  // update 1 does not check: pose 2 not relinearised
   EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
-  chain.addPose(3, 3.5);
-  chain.addOdometry(2, 1.0);
-  ASSERT_TRUE(chain.inc.update());  // update 2
-  chain.addPose(4, 4.5);
-  chain.addOdometry(3, 1.0);
-  ASSERT_TRUE(chain.inc.update());  // update 3: checks
+  ASSERT_TRUE(chain.addAgreeingPose(3, 3.5));  // update 2
+  ASSERT_TRUE(chain.addAgreeingPose(4, 4.5));  // update 3: checks
   EXPECT_GE(chain.inc.lastStats().relinearized_vertices, 1);
   ASSERT_TRUE(chain.inc.refine(options.relinearize_threshold));
   EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
   const auto& last = static_cast<const types_slam2d::VertexSE2&>(*chain.graph.vertex(4));
   EXPECT_NEAR(last.estimate().translation().x(), 4.5, 1e-9);
+}
+
+TEST(Incremental, OnePassPerUpdateRelinearisesAtTheStartOfTheNext) {
+  // One solve per update (iSAM2's scheme): update 1 moves pose 2 by 0.5 > the threshold and
+  // cannot relinearise it; update 2 must, before its solve (its new edge agrees with the
+  // estimates, so nothing else would). Afterwards refine() at the threshold has nothing to do.
+  incremental::Options options;
+  options.max_passes = 1;
+  ChainOnX chain(options);
+  ASSERT_TRUE(chain.startWithAJump());  // update 1: pose 2 moves to 2.5
+  EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
+  EXPECT_EQ(chain.inc.lastStats().passes, 1);
+  EXPECT_TRUE(chain.inc.lastStats().pass_limit_reached);
+  ASSERT_TRUE(chain.addAgreeingPose(3, 3.5));  // update 2
+  EXPECT_GE(chain.inc.lastStats().relinearized_vertices, 1);
+  EXPECT_EQ(chain.inc.lastStats().passes, 1);
+  ASSERT_TRUE(chain.inc.refine(options.relinearize_threshold));
+  EXPECT_EQ(chain.inc.lastStats().relinearized_vertices, 0);
+}
+
+TEST(Incremental, OnePassPerUpdateStillEndsAtTheOptimumAfterRefine) {
+  incremental::Options options;
+  options.max_passes = 1;
+  expectBatchAgreement(options, 5e-2, 3e-2);
 }
 
 TEST(Incremental, UpdateAfterOdometryOnlyTouchesFewColumns) {
@@ -427,6 +458,9 @@ TEST(Incremental, OptionsOutOfRangeThrow) {
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   o = {};
   o.max_passes = 0;
+  EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
+  o = {};
+  o.refine_max_passes = 0;
   EXPECT_THROW(IncrementalOptimizer(graph, o), Error);
   o = {};
   o.backsubstitution_fraction = std::nan("");

@@ -25,8 +25,17 @@ struct Options {
   double relinearize_threshold = 0.1;
   /// Relinearise-and-solve passes per update(): after a pass, vertices whose step exceeds
   /// relinearize_threshold are relinearised and the system solved again, up to this many
-  /// times (the update's stats say when the limit was reached).
+  /// times (the update's stats say when the limit was reached); those still beyond it after
+  /// the last pass are relinearised at the next update that checks. 1 is iSAM2's scheme: one
+  /// solve per update, the vertices beyond the threshold relinearised at the start of the
+  /// next checking update, with its new edges. That saves the second elimination of the
+  /// part near the root (sphere2500's replay: a third less time) and ends the replays about
+  /// as close to the optimum (docs/BENCHMARKS.md, "Incremental optimisation"), but after a
+  /// loop closure an update stands one Gauss-Newton step from the optimum, not within the
+  /// threshold.
   int max_passes = 10;
+  /// Relinearise-and-solve passes of refine() at most.
+  int refine_max_passes = 10;
   /// Relinearisation is checked at every this-many-th update only (iSAM2's
   /// relinearizeSkip, there 10 by default); the other updates solve the new edges at the
   /// current linearisation points in one pass, and the vertices whose step exceeded the
@@ -116,7 +125,7 @@ class IncrementalOptimizer {
   /// as before the call, when the factor is not positive definite.
   bool update();
   /// Relinearises every vertex whose step from its linearisation point exceeds `threshold`
-  /// and solves again, until none does (or Options::max_passes): Gauss-Newton to that
+  /// and solves again, until none does (or Options::refine_max_passes): Gauss-Newton to that
   /// step size, for when the exact optimum matters more than the time (before writing the
   /// map, at the end of a replay). Needs an update() after the last change of the graph
   /// (throws graphslam::Error otherwise). Returns false as update() does.
