@@ -491,19 +491,29 @@ std::vector<int> BlockFactor::solve(double threshold) {
   return changed;
 }
 
+// r -= L(rows, p)^T x_rows for a node of dimension dp (D when D > 0): one pass over the rows,
+// reading their solutions where they are, each entry's products for all dp columns at once.
+template <int D>
+void BlockFactor::subtractBelow(const Column& c, int dp, double* r) const {
+  const int d = D > 0 ? D : dp;
+  const double* panel = c.panel.data();
+  for (std::size_t j = 0; j < c.rows.size(); ++j) {
+    const int q = c.rows[j];
+    const double* xq = x_.data() + starts_[q];
+    const double* pj = panel + c.row_offsets[j];
+    for (int t = 0; t < dims_[q]; ++t) {
+      const double v = xq[t];
+      for (int k = 0; k < d; ++k) r[k] -= pj[static_cast<std::size_t>(k) * c.height + t] * v;
+    }
+  }
+}
+
 // x_p = L(p, p)^-T (y_p - L(rows, p)^T x_rows), kept only when an entry changes by more than
 // the threshold (so that many changes below it cannot add up unseen: x_p is what p's
 // descendants were last solved with); returns that change, or 0 when x_p was kept.
 double BlockFactor::solveNode(int p, double threshold) {
   const Column& c = columns_[p];
   const int dp = dims_[p];
-  const Index h = c.height - dp;
-  gathered_.resize(h);
-  for (std::size_t j = 0; j < c.rows.size(); ++j) {
-    const int q = c.rows[j];
-    std::copy_n(x_.data() + starts_[q], dims_[q], gathered_.data() + (c.row_offsets[j] - dp));
-  }
-  const ConstVectorMap gathered(gathered_.data(), h);
   const ConstMatrixMap panel(c.panel.data(), c.height, dp);
   // Vertex dimensions are small: r lives on the stack (no allocation per solved node).
   using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStackDim, 1>;
@@ -518,9 +528,19 @@ double BlockFactor::solveNode(int p, double threshold) {
     return Eigen::Map<Eigen::VectorXd>(heap.data(), dp);
   }();
   rv = ConstVectorMap(y_.data() + starts_[p], dp);
-  // One dot product per column: for the few columns of a vertex this is cheaper than a
-  // general matrix-vector product.
-  for (int k = 0; k < dp; ++k) rv[k] -= panel.col(k).tail(h).dot(gathered);
+  switch (dp) {  // the common vertex dimensions with the loop over them unrolled
+    case 2:
+      subtractBelow<2>(c, dp, rv.data());
+      break;
+    case 3:
+      subtractBelow<3>(c, dp, rv.data());
+      break;
+    case 6:
+      subtractBelow<6>(c, dp, rv.data());
+      break;
+    default:
+      subtractBelow<0>(c, dp, rv.data());
+  }
   // L(p, p)^T x = r by hand: Eigen's general triangular solver costs more than the few
   // multiplications of a vertex block.
   for (int k = dp - 1; k >= 0; --k) {

@@ -134,6 +134,8 @@ class BlockFactor {
   int failedMember(int first, int end, const Assemble& assemble);
   void keepUpdate(int p);
   double solveNode(int p, double threshold);
+  template <int D>
+  void subtractBelow(const Column& c, int dp, double* r) const;
 
   std::vector<int> dims_;
   std::vector<int> starts_;     // scalar offset of each node in y and x
@@ -173,7 +175,6 @@ class BlockFactor {
   std::vector<int> front_offset_;
   std::vector<int> extend_rows_;  // extendAddChildren's: front row of each update row
   std::vector<char> in_front_;
-  Storage gathered_;  // solveNode's
 };
 
 }  // namespace graphslam::incremental
