@@ -359,10 +359,10 @@ void BlockFactor::extendAddChildren(int p) {
     const int dc = dims_[child];
     const int h = cc.height - dc;
     target.resize(h);
-    for (std::size_t a = 0; a < cc.rows.size(); ++a) {
-      const int qa = cc.rows[a];
-      const int ua = cc.row_offsets[a] - dc;
+    int ua = 0;
+    for (int qa : cc.rows) {
       for (int i = 0; i < dims_[qa]; ++i) target[ua + i] = front_offset_[qa] + i;
+      ua += dims_[qa];
     }
     const double* update = cc.update.data();
     double* front = front_.data();
@@ -412,8 +412,6 @@ bool BlockFactor::factorFront(int first, int end) {
     const int top = front_offset_[p];
     Column& c = columns_[p];
     c.rows.assign(front_rows_.begin() + (i - first) + 1, front_rows_.end());
-    c.row_offsets.clear();
-    for (int q : c.rows) c.row_offsets.push_back(front_offset_[q] - top);
     c.height = static_cast<int>(front_.rows()) - top;
     c.panel.resize(static_cast<std::size_t>(c.height) * dp);
     MatrixMap panel(c.panel.data(), c.height, dp);
@@ -496,15 +494,14 @@ std::vector<int> BlockFactor::solve(double threshold) {
 template <int D>
 void BlockFactor::subtractBelow(const Column& c, int dp, double* r) const {
   const int d = D > 0 ? D : dp;
-  const double* panel = c.panel.data();
-  for (std::size_t j = 0; j < c.rows.size(); ++j) {
-    const int q = c.rows[j];
+  const double* pj = c.panel.data() + dp;  // the first row's block
+  for (int q : c.rows) {
     const double* xq = x_.data() + starts_[q];
-    const double* pj = panel + c.row_offsets[j];
     for (int t = 0; t < dims_[q]; ++t) {
       const double v = xq[t];
       for (int k = 0; k < d; ++k) r[k] -= pj[static_cast<std::size_t>(k) * c.height + t] * v;
     }
+    pj += dims_[q];
   }
 }
 
@@ -573,15 +570,16 @@ Eigen::MatrixXd BlockFactor::inverseBlock(int node) const {
     const ConstMatrixMap panel(c.panel.data(), c.height, dims_[cur]);
     panel.topRows(dims_[cur]).triangularView<Eigen::Lower>().solveInPlace(z);
     result.noalias() += z.transpose() * z;
-    for (std::size_t j = 0; j < c.rows.size(); ++j) {
-      const int q = c.rows[j];
+    Index row = dims_[cur];
+    for (int q : c.rows) {
       auto it = std::find_if(pending.begin(), pending.end(),
                              [q](const auto& entry) { return entry.first == q; });
       if (it == pending.end()) {
         pending.emplace_back(q, Eigen::MatrixXd::Zero(dims_[q], dn));
         it = pending.end() - 1;
       }
-      it->second.noalias() -= panel.middleRows(c.row_offsets[j], dims_[q]) * z;
+      it->second.noalias() -= panel.middleRows(row, dims_[q]) * z;
+      row += dims_[q];
     }
     if (parent_[cur] < 0) break;
     cur = parent_[cur];

@@ -110,10 +110,10 @@ class BlockFactor {
 
  private:
   struct Column {
-    std::vector<int> rows;         // nodes q after this one with L(q, p) != 0
-    std::vector<int> row_offsets;  // first panel row of each, after the d_p diagonal rows
-    int height = 0;                // d_p + sum of the rows' dimensions
-    Storage panel;                 // height x d_p, column-major: L(p, p) then L(q, p)
+    std::vector<int> rows;  // nodes q after this one with L(q, p) != 0
+    int height = 0;         // d_p + sum of the rows' dimensions
+    Storage panel;          // height x d_p, column-major: L(p, p), then L(q, p) for each row
+                            // q in the order of `rows`
     // What the subtree of p passes to its ancestors (rows as above, h = height - d_p):
     // (left stale, and never read, for a supernode member below the last):
     Storage update;  // h x h, lower triangle: the Schur complement onto the rows
