@@ -3,11 +3,11 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cmath>
 #include <new>
 #include <stdexcept>
 #include <utility>
 
+#include "dense_front.h"
 #include "ordering.h"
 
 namespace graphslam::incremental {
@@ -19,67 +19,6 @@ using ConstVectorMap = Eigen::Map<const Eigen::VectorXd>;
 
 // Largest vertex dimension whose back-substitution works in a stack buffer.
 constexpr int kMaxStackDim = 16;
-
-// Fronts whose eliminated block has at most this many columns (one vertex, or two small
-// ones) are eliminated with plain loops: Eigen's level-3 kernels, blocked for large
-// matrices, cost several times the arithmetic there.
-constexpr int kSmallFrontColumns = 8;
-
-namespace {
-
-// Eliminates the leading k columns of the front f (lower triangle) and its right-hand side
-// in place: f11 = L11 L11^T, f21 <- f21 L11^-T, f22 <- f22 - f21 f21^T (lower triangle),
-// rhs1 <- L11^-1 rhs1, rhs2 <- rhs2 - f21 rhs1. False when f11 is not positive definite.
-bool eliminateLeading(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs, int k) {
-  const Index h = f.rows() - k;
-  Eigen::Ref<Eigen::MatrixXd> l11 = f.topLeftCorner(k, k);
-  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(l11);  // in place
-  if (llt.info() != Eigen::Success) return false;
-  auto below = f.bottomLeftCorner(h, k);
-  llt.matrixU().solveInPlace<Eigen::OnTheRight>(below);
-  auto y = rhs.head(k);
-  llt.matrixL().solveInPlace(y);
-  f.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
-  rhs.tail(h).noalias() -= below * y;
-  return true;
-}
-
-// The same for k <= kSmallFrontColumns, column by column (the inner loops run down
-// contiguous columns).
-bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
-                           int k) {
-  const Index n = f.rows();
-  double* a = f.data();
-  const auto at = [a, n](Index i, Index j) -> double& { return a[i + j * n]; };
-  for (Index j = 0; j < k; ++j) {  // L11 and f21 L11^-T, one column at a time
-    for (Index l = 0; l < j; ++l) {
-      const double ljl = at(j, l);
-      for (Index i = j; i < n; ++i) at(i, j) -= at(i, l) * ljl;
-    }
-    const double d = at(j, j);
-    if (!(d > 0.0)) return false;
-    const double s = std::sqrt(d);
-    at(j, j) = s;
-    for (Index i = j + 1; i < n; ++i) at(i, j) /= s;
-  }
-  double* r = rhs.data();
-  for (Index j = 0; j < k; ++j) {  // L11^-1 rhs1
-    for (Index l = 0; l < j; ++l) r[j] -= at(j, l) * r[l];
-    r[j] /= at(j, j);
-  }
-  for (Index j = k; j < n; ++j) {  // f22 - f21 f21^T, lower triangle; rhs2 - f21 rhs1
-    for (Index l = 0; l < k; ++l) {
-      const double b = at(j, l);
-      double* out = a + j * n;
-      const double* col = a + l * n;
-      for (Index i = j; i < n; ++i) out[i] -= col[i] * b;
-      r[j] -= b * r[l];
-    }
-  }
-  return true;
-}
-
-}  // namespace
 
 void ColumnBuilder::begin(int p, const std::vector<int>& dims) {
   for (int q : rows_) slot_of_[q] = -1;
@@ -458,9 +397,7 @@ bool BlockFactor::factorFront(int first, int end) {
   for (int i = first; i < end; ++i) {
     if (!memberFinite(i)) return false;
   }
-  const bool positive = k <= kSmallFrontColumns ? eliminateLeadingSmall(front_, front_rhs_, k)
-                                                : eliminateLeading(front_, front_rhs_, k);
-  if (!positive) return false;
+  if (!eliminateLeading(front_, front_rhs_, k)) return false;
   const auto y = front_rhs_.head(k);
   for (int i = first; i < end; ++i) {
     const int p = order_[i];

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#include "dense_front.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+namespace graphslam::incremental {
+
+using Eigen::Index;
+
+// Fronts whose eliminated block has at most this many columns (one vertex, or two small
+// ones) are eliminated with plain loops: Eigen's level-3 kernels, blocked for large
+// matrices, cost several times the arithmetic there.
+constexpr int kSmallFrontColumns = 8;
+
+namespace {
+
+// Eigen's blocked LLT, triangular solve and rank update.
+bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
+                             int k) {
+  const Index h = f.rows() - k;
+  Eigen::Ref<Eigen::MatrixXd> l11 = f.topLeftCorner(k, k);
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(l11);  // in place
+  if (llt.info() != Eigen::Success) return false;
+  auto below = f.bottomLeftCorner(h, k);
+  llt.matrixU().solveInPlace<Eigen::OnTheRight>(below);
+  auto y = rhs.head(k);
+  llt.matrixL().solveInPlace(y);
+  f.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
+  rhs.tail(h).noalias() -= below * y;
+  return true;
+}
+
+// Column by column (the inner loops run down contiguous columns).
+bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
+                           int k) {
+  const Index n = f.rows();
+  double* a = f.data();
+  const auto at = [a, n](Index i, Index j) -> double& { return a[i + j * n]; };
+  for (Index j = 0; j < k; ++j) {  // L11 and f21 L11^-T, one column at a time
+    for (Index l = 0; l < j; ++l) {
+      const double ljl = at(j, l);
+      for (Index i = j; i < n; ++i) at(i, j) -= at(i, l) * ljl;
+    }
+    const double d = at(j, j);
+    if (!(d > 0.0)) return false;
+    const double s = std::sqrt(d);
+    at(j, j) = s;
+    for (Index i = j + 1; i < n; ++i) at(i, j) /= s;
+  }
+  double* r = rhs.data();
+  for (Index j = 0; j < k; ++j) {  // L11^-1 rhs1
+    for (Index l = 0; l < j; ++l) r[j] -= at(j, l) * r[l];
+    r[j] /= at(j, j);
+  }
+  for (Index j = k; j < n; ++j) {  // f22 - f21 f21^T, lower triangle; rhs2 - f21 rhs1
+    for (Index l = 0; l < k; ++l) {
+      const double b = at(j, l);
+      double* out = a + j * n;
+      const double* col = a + l * n;
+      for (Index i = j; i < n; ++i) out[i] -= col[i] * b;
+      r[j] -= b * r[l];
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool eliminateLeading(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs, int k) {
+  return k <= kSmallFrontColumns ? eliminateLeadingSmall(f, rhs, k)
+                                 : eliminateLeadingBlocked(f, rhs, k);
+}
+
+}  // namespace graphslam::incremental
