@@ -17,7 +17,8 @@ p99 and max, the final chi2 of the replay, the batch optimum (`optimize`'s defau
 whole file), their relative gap, and the batch optimizer's time, as `graphslam incremental`
 prints them; then the gap after the optimizer's refine(X) that ends the run (--refine X,
 passed on; default 1e-6, 0: none) and refine()'s time, which is not part of the total. A
-file that is missing, fails or exceeds --timeout is a row saying so.
+file that is missing, fails or exceeds --timeout is a row saying so. Every program runs with
+OPENBLAS_NUM_THREADS=1 and OMP_NUM_THREADS=1 (one thread each, as ISAM2 without TBB).
 
 --isam2 PATH runs an external program (for example a replay written against a GTSAM build;
 nothing here builds or ships one) the same way, as `PATH [ARG...] FILE.g2o`, and adds a
@@ -68,10 +69,16 @@ def default_data():
     return os.path.normpath(os.path.join(here, "..", "..", "shared", "datasets"))
 
 
+# Both replays run on one thread: the BLAS that graphslam's large fronts call (OpenBLAS
+# starts threads by OPENBLAS_NUM_THREADS, all cores when unset) and any OpenMP runtime.
+ONE_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+
+
 def run(cmd, timeout):
     """(stdout, None) or (None, reason)."""
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
+                           env=dict(os.environ, **ONE_THREAD))
     except subprocess.TimeoutExpired:
         return None, "timeout (> %g s)" % timeout
     except OSError as e:

@@ -4,17 +4,45 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 
+#ifdef GRAPHSLAM_INCREMENTAL_HAVE_LAPACK
+#include "graphslam/core/internal/blas.h"
+#endif
+
 namespace graphslam::incremental {
 
 using Eigen::Index;
 
 // Fronts whose eliminated block has at most this many columns (one vertex, or two small
-// ones) are eliminated with plain loops: Eigen's level-3 kernels, blocked for large
-// matrices, cost several times the arithmetic there.
+// ones) are eliminated with plain loops: the blocked level-3 kernels (BLAS's or Eigen's),
+// made for large matrices, cost several times the arithmetic there.
 constexpr int kSmallFrontColumns = 8;
 
 namespace {
 
+#ifdef GRAPHSLAM_INCREMENTAL_HAVE_LAPACK
+// LAPACK's dpotrf, BLAS's dtrsm, dsyrk and the two level-2 products: the BLAS's kernels for
+// the machine it runs on (OpenBLAS picks them at run time), where Eigen's are compiled for
+// the baseline instruction set.
+bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
+                             int k) {
+  const int n = static_cast<int>(f.rows());
+  const int h = n - k;
+  double* a = f.data();
+  int info = 0;
+  dpotrf_("L", &k, a, &n, &info);
+  if (info != 0) return false;
+  const int inc = 1;
+  dtrsv_("L", "N", "N", &k, a, &n, rhs.data(), &inc);
+  if (h == 0) return true;
+  const double one = 1.0;
+  const double minus_one = -1.0;
+  double* below = a + k;
+  dtrsm_("R", "L", "T", "N", &h, &k, &one, a, &n, below, &n);
+  dsyrk_("L", "N", &h, &k, &minus_one, below, &n, &one, below + static_cast<Index>(k) * n, &n);
+  dgemv_("N", &h, &k, &minus_one, below, &n, rhs.data(), &inc, &one, rhs.data() + k, &inc);
+  return true;
+}
+#else
 // Eigen's blocked LLT, triangular solve and rank update.
 bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
                              int k) {
@@ -30,6 +58,7 @@ bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::V
   rhs.tail(h).noalias() -= below * y;
   return true;
 }
+#endif
 
 // Column by column (the inner loops run down contiguous columns).
 bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,

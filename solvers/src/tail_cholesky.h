@@ -27,16 +27,7 @@
 
 #ifdef GRAPHSLAM_HAVE_LAPACK
 
-extern "C" {
-// The reference Fortran interface every BLAS / LAPACK exports (Debian's libblas.so.3 and
-// liblapack.so.3; OpenBLAS with the README's set-up).
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
-            const double* a, const int* lda, const double* beta, double* c, const int* ldc);
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
-void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
-            const int* n, const double* alpha, const double* a, const int* lda, double* b,
-            const int* ldb);
-}
+#include "graphslam/core/internal/blas.h"
 
 namespace graphslam::solvers::detail {
 
