@@ -90,6 +90,10 @@ void exitOutOfMemory(const std::string& command) {
   std::_Exit(1);
 }
 
+void oneBlasThreadUnlessSet() {
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) (void)solvers::setBlasThreads(1);
+}
+
 void configureProcess() {
   // Under a file size limit (ulimit -f) a write past it fails with EFBIG, reported with the
   // file's name and the staged outputs removed, instead of SIGXFSZ ending the process.

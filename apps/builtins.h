@@ -32,6 +32,11 @@ namespace graphslam::apps {
 /// write past a file size limit then fails with EFBIG and is reported).
 void configureProcess();
 
+/// For the commands that run the incremental optimizer: BLAS on one thread unless
+/// OPENBLAS_NUM_THREADS says otherwise. Its fronts are small for BLAS's threads: on two cores
+/// they doubled the CPU time of sphere2500's replay and did not shorten it.
+void oneBlasThreadUnlessSet();
+
 /// Reports "graphslam COMMAND: out of memory ..." and ends the process with exit code 1
 /// without the libraries' shutdown: after an allocation failure OpenBLAS's can wait forever
 /// for a worker thread.

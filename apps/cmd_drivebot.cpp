@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "builtins.h"
 #include "cli_common.h"
 #include "drivebot_output.h"
 #include "graphslam/core/error.h"
@@ -453,6 +454,7 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   }
   Setup setup = setupFromOptions(vm);
   const std::string out_dir = vm["out"].as<std::string>();
+  oneBlasThreadUnlessSet();
 
   Registries reg;
   loadRegistries(reg, {});

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "builtins.h"
 #include "cli_common.h"
 #include "graphslam/core/internal/file_util.h"
 #include "graphslam/core/io_g2o.h"
@@ -239,6 +240,7 @@ void plotSteps(const std::string& png, const std::string& shown, const Increment
 int cmdIncremental(const std::vector<std::string>& args) {
   IncrementalCliOptions o;
   if (!parseIncrementalOptions(args, o)) return kExitOk;
+  oneBlasThreadUnlessSet();
   Registries reg;
   loadRegistries(reg, o.plugins);
   OutputSet outputs({o.output, o.stats, o.plot}, {o.input});

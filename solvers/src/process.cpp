@@ -2,11 +2,12 @@
 // The process-wide opt-ins of graphslam/solvers/process.h.
 #include "graphslam/solvers/process.h"
 
+#include <dlfcn.h>
+
 #include <atomic>
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
 #include <cholmod.h>
-#include <dlfcn.h>
 
 #include <cstdlib>
 #include <mutex>
@@ -88,5 +89,13 @@ void serializeCholmodOpenMp(bool /*on*/) {}
 bool cholmodOpenMpSerialized() { return false; }
 
 #endif
+
+bool setBlasThreads(int threads) {
+  using SetThreads = void (*)(int);
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set == nullptr) return false;
+  set(threads);
+  return true;
+}
 
 }  // namespace graphslam::solvers
