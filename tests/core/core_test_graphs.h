@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+// Point edges (numeric, g2o-style, multi) and graphs of them, shared by the core tests.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <random>
+#include <utility>
+
+#include "graphslam/core/base_multi_edge.h"
+#include "graphslam/core/fixed_edge.h"
+#include "graphslam/core/graph.h"
+#include "graphslam/core/linear_solver.h"
+#include "graphslam/simulation/simulator.h"
+#include "graphslam/solvers/register.h"
+#include "graphslam/types_slam2d/vertex_xy.h"
+
+namespace graphslam::test {
+
+/// Linear displacement between two points: e = (b - a) - z. Numeric Jacobian (no
+/// linearizeOplus), exercising the FixedEdge default on copies.
+class EdgeDisplacement final
+    : public BaseBinaryEdge<2, Eigen::Vector2d, types_slam2d::VertexXY, types_slam2d::VertexXY> {
+ public:
+  ErrorVector evaluate(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const override {
+    return (b - a) - measurement();
+  }
+};
+
+/// The same, written g2o style: overrides computeError() only.
+class EdgeDisplacementG2oStyle final
+    : public BaseBinaryEdge<2, Eigen::Vector2d, types_slam2d::VertexXY, types_slam2d::VertexXY> {
+ public:
+  void computeError() override {
+    mutableError() = (vertexXi<1>().estimate() - vertexXi<0>().estimate()) - measurement();
+  }
+};
+
+/// Dynamic arity: the centroid of any number of points equals z.
+class EdgeCentroid final : public BaseMultiEdge<2, Eigen::Vector2d> {
+ public:
+  void computeError() override {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < numVertices(); ++i) {
+      sum += static_cast<const types_slam2d::VertexXY*>(vertex(i))->estimate();
+    }
+    mutableError() = sum / static_cast<double>(numVertices()) - measurement();
+  }
+};
+
+inline SolverRegistry allSolvers() {
+  SolverRegistry s;
+  solvers::registerSolvers(s);
+  return s;
+}
+
+inline types_slam2d::VertexXY& addPoint(Graph& g, VertexId id, const Eigen::Vector2d& p) {
+  auto v = std::make_unique<types_slam2d::VertexXY>();
+  v->setId(id);
+  v->setEstimate(p);
+  return static_cast<types_slam2d::VertexXY&>(g.addVertex(std::move(v)));
+}
+
+template <typename E>
+E& addDisplacement(Graph& g, VertexId a, VertexId b, const Eigen::Vector2d& z, double w = 1.0) {
+  auto e = std::make_unique<E>();
+  e->setVertexIds({a, b});
+  e->setMeasurement(z);
+  e->setInformation(Eigen::Matrix2d::Identity() * w);
+  return static_cast<E&>(g.addEdge(std::move(e)));
+}
+
+/// A graph mixing every way of linearising: an SE(2) pose graph (analytic Jacobians) and
+/// points with numeric Jacobians on copies, in place (g2o style) and of a multi-edge.
+inline Graph mixedGraph() {
+  simulation::ManhattanOptions sim;
+  sim.num_poses = 1500;
+  Graph g = std::move(simulation::simulateManhattan(sim).graph);
+  g.vertex(0)->setFixed(true);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  const VertexId p0 = 100000;
+  const int points = 1200;
+  for (int i = 0; i < points; ++i) addPoint(g, p0 + i, {noise(rng), noise(rng)});
+  g.vertex(p0)->setFixed(true);
+  for (int i = 1; i < points; ++i) {
+    const Eigen::Vector2d z(1.0 + noise(rng), noise(rng));
+    if (i % 2) {
+      addDisplacement<EdgeDisplacement>(g, p0 + i - 1, p0 + i, z);
+    } else {
+      addDisplacement<EdgeDisplacementG2oStyle>(g, p0 + i - 1, p0 + i, z);
+    }
+    if (i % 7 == 0) {
+      auto c = std::make_unique<EdgeCentroid>();
+      c->setVertexIds({p0 + i - 2, p0 + i - 1, p0 + i});
+      c->setMeasurement(Eigen::Vector2d(i - 1.0 + noise(rng), noise(rng)));
+      g.addEdge(std::move(c));
+    }
+  }
+  return g;
+}
+
+}  // namespace graphslam::test
