@@ -4,6 +4,8 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 
+#include "graphslam/core/internal/fixed_size.h"
+
 #ifdef GRAPHSLAM_INCREMENTAL_HAVE_LAPACK
 #include "graphslam/core/internal/blas.h"
 #endif
@@ -60,6 +62,25 @@ bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::V
 }
 #endif
 
+// f22 -= f21 f21^T (lower triangle) and rhs2 -= f21 rhs1 for the leading k columns (K when
+// K > 0) of the n x n front a: one pass down each output column, each entry read and
+// written once for all k products (subtracted in column order).
+template <int K>
+void subtractOuterProduct(double* a, Index n, int k_at_run_time, double* r) {
+  const int k = K > 0 ? K : k_at_run_time;
+  double b[K > 0 ? K : kSmallFrontColumns];
+  for (Index j = k; j < n; ++j) {
+    for (int l = 0; l < k; ++l) b[l] = a[j + l * n];
+    double* __restrict out = a + j * n;  // column j >= k: none of the columns read
+    for (Index i = j; i < n; ++i) {
+      double v = out[i];
+      for (int l = 0; l < k; ++l) v -= a[i + l * n] * b[l];
+      out[i] = v;
+    }
+    for (int l = 0; l < k; ++l) r[j] -= b[l] * r[l];
+  }
+}
+
 // Column by column (the inner loops run down contiguous columns).
 bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::VectorXd>& rhs,
                            int k) {
@@ -82,15 +103,8 @@ bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::Vec
     for (Index l = 0; l < j; ++l) r[j] -= at(j, l) * r[l];
     r[j] /= at(j, j);
   }
-  for (Index j = k; j < n; ++j) {  // f22 - f21 f21^T, lower triangle; rhs2 - f21 rhs1
-    for (Index l = 0; l < k; ++l) {
-      const double b = at(j, l);
-      double* out = a + j * n;
-      const double* col = a + l * n;
-      for (Index i = j; i < n; ++i) out[i] -= col[i] * b;
-      r[j] -= b * r[l];
-    }
-  }
+  detail::withFixedSize<2, 3, 4, 5, 6>(
+      k, [&](auto fixed) { subtractOuterProduct<decltype(fixed)::value>(a, n, k, r); });
   return true;
 }
 
