@@ -52,10 +52,11 @@ bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::V
   Eigen::Ref<Eigen::MatrixXd> l11 = f.topLeftCorner(k, k);
   const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(l11);  // in place
   if (llt.info() != Eigen::Success) return false;
-  auto below = f.bottomLeftCorner(h, k);
-  llt.matrixU().solveInPlace<Eigen::OnTheRight>(below);
   auto y = rhs.head(k);
   llt.matrixL().solveInPlace(y);
+  if (h == 0) return true;  // (Eigen's solves of empty blocks would reach null data)
+  auto below = f.bottomLeftCorner(h, k);
+  llt.matrixU().solveInPlace<Eigen::OnTheRight>(below);
   f.bottomRightCorner(h, h).selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
   rhs.tail(h).noalias() -= below * y;
   return true;
