@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dense_front.h"
+#include "graphslam/core/internal/fixed_size.h"
 #include "ordering.h"
 
 namespace graphslam::incremental {
@@ -518,19 +519,9 @@ double BlockFactor::solveNode(int p, double threshold) {
     return Eigen::Map<Eigen::VectorXd>(heap.data(), dp);
   }();
   rv = ConstVectorMap(y_.data() + starts_[p], dp);
-  switch (dp) {  // the common vertex dimensions with the loop over them unrolled
-    case 2:
-      subtractBelow<2>(c, dp, rv.data());
-      break;
-    case 3:
-      subtractBelow<3>(c, dp, rv.data());
-      break;
-    case 6:
-      subtractBelow<6>(c, dp, rv.data());
-      break;
-    default:
-      subtractBelow<0>(c, dp, rv.data());
-  }
+  // The common vertex dimensions with the loop over them unrolled.
+  detail::withFixedSize<2, 3, 6>(
+      dp, [&](auto fixed) { subtractBelow<decltype(fixed)::value>(c, dp, rv.data()); });
   // L(p, p)^T x = r by hand: Eigen's general triangular solver costs more than the few
   // multiplications of a vertex block.
   for (int k = dp - 1; k >= 0; --k) {
