@@ -14,8 +14,9 @@
 #include <vector>
 
 #include "builtins.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
+#include "graphslam/host/registries.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::apps {
 
@@ -30,16 +31,13 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-struct Registries {
-  // Declared first so it is destroyed last: the registries hold factories whose code
-  // lives in the plugin libraries, and graphs built from them are destroyed before these.
-  std::vector<std::unique_ptr<Plugin>> plugins;
-  TypeRegistry types;
-  SolverRegistry solvers;
-};
+/// The tool's registries: the library's modules, then the plugins of GRAPHSLAM_PLUGIN_PATH
+/// and --plugin.
+using Registries = host::Registries;
 
 inline void loadRegistries(Registries& r, const std::vector<std::string>& plugins) {
-  r.plugins = loadTypesAndSolvers(r.types, r.solvers, plugins);
+  host::registerBuiltins(r);
+  host::loadPlugins(r, plugins);
 }
 
 /// program_options' "the argument ('V') for option '--x' is invalid", saying "is out of

@@ -11,13 +11,13 @@
 #include "builtins.h"
 #include "cli_common.h"
 #include "drivebot_output.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/logging.h"
 #include "graphslam/drivebot/run.h"
 #include "graphslam/drivebot/scenario.h"
 #include "graphslam/drivebot/simulator.h"
 #include "graphslam/drivebot/slam_system.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
+#include "graphslam/support/logging.h"
 #include "output_set.h"
 #include "plotting.h"
 
@@ -288,7 +288,7 @@ std::string presetOverrides(const po::variables_map& vm) {
     if (const auto* s = boost::any_cast<std::string>(&v)) overrides += " " + *s;
     if (const auto* i = boost::any_cast<int>(&v)) overrides += " " + std::to_string(*i);
     if (const auto* l = boost::any_cast<long>(&v)) overrides += " " + std::to_string(*l);
-    if (const auto* d = boost::any_cast<double>(&v)) overrides += " " + formatDouble(*d);
+    if (const auto* d = boost::any_cast<double>(&v)) overrides += " " + support::formatDouble(*d);
   }
   return overrides;
 }
@@ -465,8 +465,9 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   const std::string data_dir = given(vm, "data") ? vm["data"].as<std::string>() : defaultDataDir();
   const Scenario scenario = findScenario(setup.scenario, data_dir);
 
-  setLogSink([](LogLevel level, const std::string& msg) {
-    if (level >= LogLevel::kWarning) std::fprintf(stderr, "%s: %s\n", toString(level), msg.c_str());
+  support::setLogSink([](support::LogLevel level, const std::string& msg) {
+    if (level >= support::LogLevel::kWarning)
+      std::fprintf(stderr, "%s: %s\n", toString(level), msg.c_str());
   });
   printSettings(setup, scenario);
   // Created before the run, so a long run does not end in an unwritable place; the results

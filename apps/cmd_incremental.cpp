@@ -11,9 +11,9 @@
 
 #include "builtins.h"
 #include "cli_common.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/io_g2o.h"
 #include "graphslam/incremental/replay.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/support/file_util.h"
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
@@ -191,11 +191,13 @@ std::string formatGap(double gap) {
   return text;
 }
 
-std::string csvNumber(double value) { return std::isfinite(value) ? formatDouble(value) : ""; }
+std::string csvNumber(double value) {
+  return std::isfinite(value) ? support::formatDouble(value) : "";
+}
 
 void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
                    const std::vector<StepCheck>& checks) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,pose,new_edges,new_landmarks,seconds,passes,pass_limit_reached,"
            "relinearized_vertices,relinearized_edges,eliminated_columns,rebuilt,chi2,batch_chi2,"
            "estimate_difference\n";
@@ -204,9 +206,10 @@ void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
       const incremental::ReplayStep& s = r.steps[k];
       const incremental::UpdateStats& u = s.stats;
       out << k << ',' << s.pose << ',' << s.new_edges << ',' << s.new_landmarks << ','
-          << formatDouble(s.seconds) << ',' << u.passes << ',' << (u.pass_limit_reached ? 1 : 0)
-          << ',' << u.relinearized_vertices << ',' << u.relinearized_edges << ','
-          << u.eliminated_columns << ',' << (u.rebuilt ? 1 : 0) << ',' << csvNumber(s.chi2) << ',';
+          << support::formatDouble(s.seconds) << ',' << u.passes << ','
+          << (u.pass_limit_reached ? 1 : 0) << ',' << u.relinearized_vertices << ','
+          << u.relinearized_edges << ',' << u.eliminated_columns << ',' << (u.rebuilt ? 1 : 0)
+          << ',' << csvNumber(s.chi2) << ',';
       while (check != checks.end() && check->step < k) ++check;
       if (check != checks.end() && check->step == k && check->comparison.ok()) {
         out << csvNumber(check->comparison.batch_chi2) << ','
@@ -249,7 +252,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
         "--plot needs Python 3 with matplotlib, and none was found (tried "
         "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
   }
-  LoadedInput in = loadInput(o.input, reg.types);
+  LoadedInput in = loadInput(o.input, reg);
   std::printf("%s: %s, %zu vertices, %zu edges\n", o.input.c_str(), in.description.c_str(),
               in.graph.numVertices(), in.graph.numEdges());
   for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());

@@ -9,7 +9,7 @@
 
 #include "cli_common.h"
 #include "factor_graph_dot.h"
-#include "graphslam/core/internal/file_util.h"
+#include "graphslam/support/file_util.h"
 #include "input.h"
 #include "observability_check.h"
 #include "plotting.h"
@@ -24,7 +24,7 @@ void plotHessian(const std::string& plot, const std::string& input, const Graph&
   if (n == 0) throw UsageError(input + ": the graph has no vertices: no H to draw");
   const std::string data = plot + ".blocks.csv";
   const TemporaryFile remove_data{data};
-  writeFileAtomically(data, [&](std::ostream& out) {
+  support::writeFileAtomically(data, [&](std::ostream& out) {
     out << "n," << n << "\nrow,col,rows,cols\n";
     auto block = [&](VertexId a, VertexId b) {
       const auto [ra, da] = column.at(a);
@@ -82,7 +82,7 @@ int cmdInfo(const std::vector<std::string>& args) {
   loadRegistries(reg, plugins);
   InputOptions input_options;
   input_options.information = parseInformationRepair(information);
-  LoadedInput in = loadInput(input, reg.types, input_options);
+  LoadedInput in = loadInput(input, reg, input_options);
   const Graph& graph = in.graph;
   if (in.format != "g2o" || !in.notes.empty()) {
     std::printf("%s: %s\n", input.c_str(), in.description.c_str());

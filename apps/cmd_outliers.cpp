@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/io_g2o.h"
+#include "graphslam/io/g2o.h"
 #include "graphslam/simulation/wrong_loop_closures.h"
+#include "graphslam/support/file_util.h"
 #include "input.h"
 #include "output_set.h"
 
@@ -88,7 +88,7 @@ int addOutliers(const AddOutliersOptions& o, const Registries& reg, Graph& graph
               << " wrong loop closures found a free pose pair\n";
   }
   if (!o.list.empty()) {
-    writeFileAtomically(outputs.staged(o.list), [&](std::ostream& out) {
+    support::writeFileAtomically(outputs.staged(o.list), [&](std::ostream& out) {
       out << "# line id_i id_j (wrong loop closures in " << o.output << ")\n";
       for (std::size_t k : added.edge_indices) {
         const Edge& e = *graph.edges()[k];
@@ -110,7 +110,7 @@ int cmdAddOutliers(const std::vector<std::string>& args) {
   loadRegistries(reg, o.plugins);
   // Both outputs checked before the work and put in place together.
   OutputSet outputs({o.output, o.list}, {o.input});
-  LoadedInput in = loadInput(o.input, reg.types);
+  LoadedInput in = loadInput(o.input, reg);
   if (in.format == "npz")
     throw UsageError("add-outliers reads .g2o, TORO or iSAM graphs, not " + o.input);
   return outputs.writeAll([&] { return addOutliers(o, reg, in.graph, outputs); });

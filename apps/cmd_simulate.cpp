@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "graphslam/core/io_g2o.h"
+#include "graphslam/io/g2o.h"
 #include "graphslam/simulation/simulator.h"
 #include "graphslam/simulation/simulator3d.h"
 #include "graphslam/types_slam2d/vertex_se2.h"

@@ -10,11 +10,11 @@
 #include <sstream>
 
 #include "cli_common.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/linear_system.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/linear_system.h"
+#include "graphslam/optimizer/optimizer.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
+#include "graphslam/support/logging.h"
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
@@ -72,7 +72,7 @@ void writePattern(const std::string& path, int rows, int cols, const std::vector
   if (reported_nnz != 0 && reported_nnz != nnz) {
     title += " (the table's nnz(factor): " + std::to_string(reported_nnz) + ")";
   }
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << rows << ',' << cols << ',' << nnz << ',' << std::min(rows, grid) << ','
         << std::min(cols, grid) << ',' << title << '\n';
     for (const auto& [rc, count] : cells)
@@ -305,11 +305,11 @@ void printTable(const std::vector<Row>& rows, const Reference& reference, int re
 
 /// Applies the reference step to the graph and prints the position errors against the
 /// ground truth before and after it.
-void applyReferenceStep(Graph& graph, const homework::PointGroundTruth& truth,
-                        const StudySystem& sys, const std::vector<double>& reference) {
-  const auto before = homework::positionErrors(graph, truth);
+void applyReferenceStep(Graph& graph, const io::PointGroundTruth& truth, const StudySystem& sys,
+                        const std::vector<double>& reference) {
+  const auto before = eval::positionErrors(graph, truth);
   for (const auto& [v, column] : sys.columns) v->oplus(reference.data() + column);
-  const auto after = homework::positionErrors(graph, truth);
+  const auto after = eval::positionErrors(graph, truth);
   std::printf(
       "position error vs ground truth (m) of the estimate, before -> after the reference "
       "step:\n");
@@ -320,7 +320,7 @@ void applyReferenceStep(Graph& graph, const homework::PointGroundTruth& truth,
 /// The table as CSV into `outputs`' staged file for `csv`, put in place.
 void writeCsv(const std::string& csv, OutputSet& outputs, const std::vector<Row>& rows,
               const StudySystem& sys) {
-  writeFileAtomically(outputs.staged(csv), [&](std::ostream& out) {
+  support::writeFileAtomically(outputs.staged(csv), [&](std::ostream& out) {
     out.precision(10);
     out << "solver,ordering,form,n,nnz_matrix,analyze_s,factorize_s,solve_s,total_s,factor_nnz,"
            "residual,max_diff,status,refine_s,max_diff_unrefined\n";
@@ -412,7 +412,7 @@ int cmdSolvers(const std::vector<std::string>& args) {
   std::optional<OutputFolder> pictures;
   if (!o.plot_dir.empty()) pictures.emplace(o.plot_dir);
 
-  LoadedInput in = loadInput(o.input, reg.types);
+  LoadedInput in = loadInput(o.input, reg);
   Graph& graph = in.graph;
   if (!prepareGraph(o, in, reg.solvers)) return kExitFailed;
   const StudySystem sys = linearSystemOf(graph);

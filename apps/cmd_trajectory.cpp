@@ -14,12 +14,13 @@
 
 #include "cli_common.h"
 #include "eval_plot_data.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/eval/trajectory.h"
 #include "graphslam/eval/trajectory_metrics.h"
-#include "graphslam/homework/pose_graph_io.h"
+#include "graphslam/init/dead_reckoning.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/io/relative_poses.h"
+#include "graphslam/io/trajectory.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
@@ -27,6 +28,7 @@
 namespace graphslam::apps {
 
 using namespace graphslam::eval;
+using namespace graphslam::io;
 
 namespace {
 
@@ -50,40 +52,32 @@ std::string trajectoryFormat(const std::string& path, const std::string& format)
   return "tum";
 }
 
-Graph loadGraphOrThrow(const std::string& path, const Registries& reg) {
-  auto loaded = io::loadG2o(path, reg.types);
-  if (!loaded.ok()) {
-    std::string all;
-    for (const auto& d : loaded.diagnostics) all += (all.empty() ? "" : "\n") + d.str();
-    throw InputError(all);
-  }
-  return std::move(loaded.graph);
-}
-
+/// A trajectory from a file: a TUM or KITTI trajectory, or a graph's poses (.g2o and every
+/// other graph format of the registry; trajectoryFromGraph).
 Trajectory loadTrajectory(const std::string& path, const std::string& format,
                           const Registries& reg) {
   const std::string f = trajectoryFormat(path, format);
-  if (f == "g2o") return homework::trajectoryFromGraph(loadGraphOrThrow(path, reg));
-  if (f == "kitti") return readKitti(path);
-  return readTum(path);
+  if (f == "g2o") return io::trajectoryFromGraph(loadInput(path, reg).graph);
+  io::Source source = io::Source::open(path);
+  return reg.formats.find<Trajectory>(f)->read(source, {});
 }
 
-void saveTrajectory(const std::string& path, const Trajectory& t, const std::string& format) {
-  // Reading takes any other name as TUM (evo's default); writing guesses nothing.
-  if (format == "auto" && !endsWith(path, ".tum") && !endsWith(path, ".txt") &&
-      !endsWith(path, ".kitti") && !endsWith(path, ".g2o")) {
+/// Writes `t` as TUM or KITTI (by --format, else by the name); a name that says neither is
+/// refused rather than guessed.
+void saveTrajectory(const std::string& path, const Trajectory& t, const std::string& format,
+                    const Registries& reg) {
+  const io::Format<Trajectory>* f = format == "auto" ? reg.formats.forOutput<Trajectory>(path)
+                                                     : reg.formats.find<Trajectory>(format);
+  if (format == "g2o" || (format == "auto" && endsWith(path, ".g2o"))) {
+    throw UsageError("write trajectories as TUM or KITTI, not .g2o");
+  }
+  if (!f) {
     throw UsageError("cannot tell the trajectory format of '" + path +
                      "' from its name: end it in .tum, .txt or .kitti, or give --format tum|kitti");
   }
-  const std::string f = trajectoryFormat(path, format);
-  if (f == "g2o") throw UsageError("write trajectories as TUM or KITTI, not .g2o");
-  writeFileAtomically(path, [&](std::ostream& out) {
-    if (f == "kitti") {
-      writeKitti(out, t);
-    } else {
-      writeTum(out, t);
-    }
-  });
+  if (t.empty())
+    throw InputError(path + ": no poses to write (the graph has no SE(2) or SE(3) pose)");
+  support::writeFileAtomically(path, [&](std::ostream& out) { f->write(t, out, {}); });
 }
 
 PoseRelation parseRelation(const std::string& r) {
@@ -142,7 +136,7 @@ std::string statsTable(const ErrorStatistics& s) {
   return buf;
 }
 
-std::string jsonNumber(double x) { return std::isfinite(x) ? formatDouble(x) : "null"; }
+std::string jsonNumber(double x) { return std::isfinite(x) ? support::formatDouble(x) : "null"; }
 
 /// The options of graphslam eval.
 struct EvalOptions {
@@ -254,7 +248,7 @@ EvalResult evaluate(const EvalOptions& o, const Trajectory& ref, const Trajector
     const ApeResult r = computeApe(ref, est, opt);
     take(r);
     for (std::size_t i = 0; i < r.reference.size(); ++i)
-      e.labels.push_back(formatDouble(r.reference.timestamp(i)));
+      e.labels.push_back(support::formatDouble(r.reference.timestamp(i)));
   } else {
     RpeOptions opt;
     common(opt);
@@ -264,7 +258,7 @@ EvalResult evaluate(const EvalOptions& o, const Trajectory& ref, const Trajector
     const RpeResult r = computeRpe(ref, est, opt);
     take(r);
     for (const auto& [i, j] : r.id_pairs)
-      e.labels.push_back(formatDouble(r.reference.timestamp(j)));
+      e.labels.push_back(support::formatDouble(r.reference.timestamp(j)));
   }
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return e;
@@ -280,17 +274,17 @@ std::string alignmentTitle(const AlignmentOptions& align) {
 }
 
 void writeErrorsCsv(const std::string& path, const EvalResult& e) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "t,error\n";
     for (std::size_t i = 0; i < e.errors.size(); ++i)
-      out << e.labels[i] << ',' << formatDouble(e.errors[i]) << '\n';
+      out << e.labels[i] << ',' << support::formatDouble(e.errors[i]) << '\n';
   });
 }
 
 void writeErrorsJson(const std::string& path, const std::string& metric, const std::string& title,
                      const std::string& mode, const EvalResult& e) {
   const ErrorStatistics& stats = e.stats;
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "{\n  \"metric\": \"" << metric << "\",\n  \"title\": \"" << title
         << "\",\n  \"alignment\": \"" << mode
         << "\",\n  \"statistics\": {\"max\": " << jsonNumber(stats.max)
@@ -397,7 +391,7 @@ int cmdEval(const std::vector<std::string>& args) {
   const std::string mode = alignmentTitle(align);
   std::string title =
       (o.metric == "ape" ? "APE" : "RPE") + std::string(" w.r.t. ") + relationTitle(rel);
-  if (o.metric == "rpe") title += ", delta " + formatDouble(o.delta) + " " + o.unit;
+  if (o.metric == "rpe") title += ", delta " + support::formatDouble(o.delta) + " " + o.unit;
   std::printf("%s\n%s\n\n%s\n%zu poses compared, %zu errors, %.6f s\n", title.c_str(), mode.c_str(),
               statsTable(e.stats).c_str(), e.ref_used.size(), e.errors.size(), e.seconds);
   outputs.writeAll([&] {
@@ -416,39 +410,54 @@ int cmdEval(const std::vector<std::string>& args) {
 // deadreckon
 
 int cmdDeadreckon(const std::vector<std::string>& args) {
-  std::string input, output, format = "auto";
+  std::string input, output, format = "auto", from = "auto";
+  std::vector<std::string> plugins;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")(
       "input", po::value(&input),
-      "3xN relative-pose matrix file, a .g2o graph or a .npz homework file")(
+      "3xN relative-pose matrix file, or a pose graph (.g2o, TORO, iSAM)")(
       "output,o", po::value(&output), "write the trajectory (TUM, or KITTI for .kitti)")(
-      "format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti");
+      "format", po::value(&format)->default_value("auto"), "output format: auto, tum or kitti")(
+      "from", po::value(&from)->default_value("auto"),
+      "input format: auto (from its name and content), g2o, toro, isam or matrix")(
+      "plugin", po::value(&plugins)->composing(),
+      "load types from this shared library (repeatable)");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam deadreckon IN [-o OUT.tum]\n"
+        "usage: graphslam deadreckon IN [-o OUT.tum] [--from FORMAT] [--plugin LIB]...\n"
         "Composes relative SE(2) poses from the identity (a 3xN matrix, column k = (dx, dy, "
         "dtheta)\n"
-        "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a .g2o, into a trajectory.\n"
-        "A .g2o chain starts at the first pose's estimate; in a file without vertex lines the\n"
+        "of T_k^-1 T_k+1), or the EDGE_SE2 i -> i+1 chain of a pose graph, into a trajectory.\n"
+        "A graph's chain starts at the first pose's estimate; in a file without vertex lines "
+        "the\n"
         "poses are created from the edges and the chain starts at the identity.",
         desc);
     return kExitOk;
   }
   if (input.empty()) throw UsageError("deadreckon needs an input file");
+  Registries reg;
+  loadRegistries(reg, plugins);
+  checkGraphFormat(from, reg);
+  io::Source source = io::Source::open(input);
+  const std::string format_name =
+      from == "auto" ? reg.formats.detect<io::GraphFile>(source, "g2o").name : from;
   Trajectory t;
-  if (endsWith(input, ".g2o")) {
-    Registries reg;
-    loadRegistries(reg, {});
-    const LoadedInput in = loadInput(input, reg.types);
-    // Created vertices keep their default estimates: the chain starts at the identity.
-    if (in.created_vertices > 0) std::printf("%s\n", createdVerticesNote(in).c_str());
-    t = homework::deadReckonGraph(in.graph);
+  if (format_name == "matrix") {
+    t = trajectoryFromSE2(deadReckonSE2(readMatrix3xN(source.stream(), source.name())));
   } else {
-    const Eigen::Matrix3Xd poses = deadReckonSE2(readMatrix3xN(input));
-    t = trajectoryFromSE2(poses);
+    io::ReadContext context;
+    context.types = &reg.types;
+    context.load.create_missing_vertices = true;
+    const LoadedInput in = io::readGraph(source, reg.formats, context, format_name);
+    if (in.format == "npz") {
+      throw UsageError(input + ": a CMU homework file has no SE(2) odometry chain (point robot)");
+    }
+    // Created vertices keep their default estimates: the chain starts at the identity.
+    if (in.created_vertices > 0) std::printf("%s\n", io::createdVerticesNote(in).c_str());
+    t = init::deadReckonGraph(in.graph);
   }
   const std::size_t last = t.size() - 1;
   const Eigen::Isometry3d& p = t.pose(last);
@@ -459,7 +468,7 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
       t.size(), last, p.translation().x(), p.translation().y(), theta, theta * kRadToDeg,
       (p.translation() - t.position(0)).norm());
   if (!output.empty()) {
-    saveTrajectory(output, t, format);
+    saveTrajectory(output, t, format, reg);
     std::printf("wrote %s\n", output.c_str());
   }
   return kExitOk;
@@ -469,28 +478,16 @@ int cmdDeadreckon(const std::vector<std::string>& args) {
 // convert
 
 namespace {
-/// convert from TORO or iSAM text: the graph in g2o's tags, created vertices initialised.
-int convertToG2o(const std::string& input, const std::string& output, formats::TextFormat format,
-                 const Registries& reg) {
-  if (!endsWith(output, ".g2o")) {
-    throw UsageError(std::string("a ") + formats::displayName(format) +
-                     " file converts to a .g2o file");
-  }
-  InputOptions options;
-  options.text_format = formats::toString(format);
-  LoadedInput in = loadInput(input, reg.types, options);
-  std::printf("read %s: %s\n", input.c_str(), in.description.c_str());
-  for (const auto& note : in.notes) std::printf("%s\n", note.c_str());
-  initializeCreatedVertices(in, in.graph, reg.solvers);
-  io::saveG2o(output, in.graph, reg.types);
-  std::printf("wrote %s: %zu vertices, %zu edges\n", output.c_str(), in.graph.numVertices(),
-              in.graph.numEdges());
-  return kExitOk;
+std::string joinNumbers(const std::vector<double>& values) {
+  std::string out;
+  for (double v : values) out += (out.empty() ? "" : " ") + support::formatDouble(v);
+  return out;
 }
 }  // namespace
 
 int cmdConvert(const std::vector<std::string>& args) {
   std::string input, output, format = "auto", from = "auto";
+  std::vector<std::string> plugins;
   std::vector<double> info;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")(
@@ -504,13 +501,15 @@ int cmdConvert(const std::vector<std::string>& args) {
       "matrix input: I11 I12 I13 I22 I23 I33 of every edge (default identity)")(
       "format", po::value(&format)->default_value("auto"), "trajectory output: auto, tum or kitti")(
       "from", po::value(&from)->default_value("auto"),
-      "input that is not .g2o or .npz: auto (from its tags), toro, isam or matrix");
+      "input format: auto (from its name and content), g2o, toro, isam, npz or matrix")(
+      "plugin", po::value(&plugins)->composing(),
+      "load types from this shared library (repeatable)");
   po::positional_options_description pos;
   pos.add("input", 1).add("output", 1);
   const auto vm = parse(args, desc, &pos);
   if (vm.count("help")) {
     printHelp(
-        "usage: graphslam convert IN OUT\n"
+        "usage: graphslam convert IN OUT [--from FORMAT] [--format tum|kitti] [--plugin LIB]...\n"
         "  .npz -> .g2o: a CMU 16-833 homework file as a point-robot graph (initial guess as "
         "estimates)\n"
         "  matrix -> .g2o: relative poses to an SE(2) pose graph (last column = loop closure to "
@@ -523,60 +522,32 @@ int cmdConvert(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (input.empty() || output.empty()) throw UsageError("convert needs IN and OUT");
-  if (from != "auto" && from != "toro" && from != "isam" && from != "matrix") {
-    throw UsageError("--from must be auto, toro, isam or matrix, not '" + from + "'");
-  }
   Registries reg;
-  loadRegistries(reg, {});
-  if (endsWith(input, ".npz")) {
-    if (!endsWith(output, ".g2o")) throw UsageError("a .npz homework file converts to a .g2o file");
-    const LoadedInput in = loadInput(input, reg.types);
-    io::saveG2o(output, in.graph, reg.types);
-    std::printf("wrote %s: %s (the file's initial guess as estimates)\n", output.c_str(),
-                in.description.c_str());
-    return kExitOk;
+  loadRegistries(reg, plugins);
+  checkGraphFormat(from, reg);
+  InputOptions options;
+  options.format = from;
+  if (vm.count("no-loop-closure")) options.choices["loop-closure"] = "no";
+  if (!info.empty()) options.choices["information"] = joinNumbers(info);
+  LoadedInput in = loadInput(input, reg, options);
+  std::printf("read %s: %s\n", in.path.c_str(), in.description.c_str());
+  for (const auto& note : in.notes) std::printf("%s\n", note.c_str());
+  const bool trajectory = format != "auto" || reg.formats.forOutput<Trajectory>(output) != nullptr;
+  if (!trajectory && reg.formats.forOutput<io::GraphFile>(output) == nullptr) {
+    throw UsageError("cannot tell the output format of '" + output +
+                     "' from its name: end it in .g2o for a graph, or in .tum, .txt or .kitti "
+                     "(or give --format tum|kitti) for its poses as a trajectory");
   }
-  if (endsWith(input, ".g2o")) {
-    LoadedInput in = loadInput(input, reg.types);
-    if (in.created_vertices > 0) {
-      std::printf("%s\n", createdVerticesNote(in).c_str());
-      initializeCreatedVertices(in, in.graph, reg.solvers);
-    }
-    const Trajectory t = homework::trajectoryFromGraph(in.graph);
-    saveTrajectory(output, t, format);
+  initializeCreatedVertices(in, in.graph, reg.solvers);
+  if (trajectory) {
+    const Trajectory t = io::trajectoryFromGraph(in.graph);
+    saveTrajectory(output, t, format, reg);
     std::printf("wrote %s: %zu poses\n", output.c_str(), t.size());
     return kExitOk;
   }
-  if (from != "matrix") {
-    const formats::TextFormat text_format =
-        from == "auto" ? formats::detectFileFormat(input) : parseTextFormat(from);
-    if (text_format != formats::TextFormat::kG2o) {
-      return convertToG2o(input, output, text_format, reg);
-    }
-  }
-  if (from == "auto" && (endsWith(input, ".tum") || endsWith(input, ".kitti"))) {
-    throw UsageError(input +
-                     " is named as a trajectory: convert reads .g2o, TORO and iSAM graphs and 3xN "
-                     "relative-pose matrices (give --from matrix to read it as one); eval reads "
-                     "trajectories");
-  }
-  if (!endsWith(output, ".g2o")) throw UsageError("a relative-pose matrix converts to a .g2o file");
-  homework::RelativePoseGraphOptions options;
-  options.last_column_closes_loop = vm.count("no-loop-closure") == 0;
-  if (!info.empty()) {
-    if (info.size() != 6)
-      throw UsageError("--information takes 6 numbers (upper triangle of a 3x3 matrix)");
-    options.information << info[0], info[1], info[2], info[1], info[3], info[4], info[2], info[4],
-        info[5];
-    if (options.information.llt().info() != Eigen::Success) {
-      throw UsageError("--information is not positive definite");
-    }
-  }
-  const Graph graph = homework::poseGraphFromRelativePoses(readMatrix3xN(input), options);
-  io::saveG2o(output, graph, reg.types);
-  std::printf(
-      "wrote %s: %zu poses, %zu edges%s\n", output.c_str(), graph.numVertices(), graph.numEdges(),
-      options.last_column_closes_loop ? " (last column as the loop closure to pose 0)" : "");
+  io::writeGraph(output, in.graph, reg.formats, {&reg.types});
+  std::printf("wrote %s: %zu vertices, %zu edges\n", output.c_str(), in.graph.numVertices(),
+              in.graph.numEdges());
   return kExitOk;
 }
 

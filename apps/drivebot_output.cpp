@@ -9,9 +9,9 @@
 #include <sstream>
 #include <vector>
 
-#include "graphslam/core/graph_checks.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/io_g2o.h"
+#include "graphslam/diagnostics/graph_checks.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/support/file_util.h"
 
 namespace graphslam::apps {
 
@@ -19,7 +19,7 @@ using namespace graphslam::drivebot;
 
 namespace {
 
-std::string num(double v) { return std::isfinite(v) ? formatDouble(v) : "nan"; }
+std::string num(double v) { return std::isfinite(v) ? support::formatDouble(v) : "nan"; }
 
 double wrapPi(double a) {
   a = std::fmod(a + kPi, 2.0 * kPi);
@@ -29,7 +29,7 @@ double wrapPi(double a) {
 
 void writeSteps(const std::string& path, const RunResult& r) {
   const bool aligned = r.history.time.size() == r.steps.size();
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,time,waypoint,true_x,true_y,true_psi,x,y,psi,var_x,var_y,var_psi,online_x,"
            "online_y,online_psi,online_var_x,online_var_y,online_var_psi,optimized,chi2,"
            "optimization_time,optimization_cpu_time,iterations,vertices,edges,observations,gps\n";
@@ -65,7 +65,7 @@ constexpr const char* kLandmarkHeader =
     "landmark,vertex,true_x,true_y,x,y,cov_xx,cov_xy,cov_yy,det,observations,last_seen_step\n";
 
 void writeLoopClosure(const std::string& path, const LoopClosure& lc, const Scenario& scenario) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "phase,step,time,chi2,vehicle_x,vehicle_y,vehicle_psi,vehicle_det,closing_landmarks,"
         << kLandmarkHeader;
     std::string closing;
@@ -84,7 +84,7 @@ void writeLoopClosure(const std::string& path, const LoopClosure& lc, const Scen
 
 /// Every vehicle vertex's covariance diagonal just before and just after the closure.
 void writeLoopClosureVehicle(const std::string& path, const LoopClosure& lc) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "phase,step,time,x,y,psi,var_x,var_y,var_psi\n";
     for (const auto* m : {&lc.before, &lc.after}) {
       const VehicleHistory& h = m->vehicle_history;
@@ -99,7 +99,7 @@ void writeLoopClosureVehicle(const std::string& path, const LoopClosure& lc) {
 }
 
 void writeStatistics(const std::string& path, const GraphStatistics& g) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "quantity,value\n"
         << "vehicle_vertices," << g.vehicle_vertices << "\nlandmark_vertices,"
         << g.landmark_vertices << "\nedges," << g.edges << "\nprediction_edges,"
@@ -115,7 +115,7 @@ void writeStatistics(const std::string& path, const GraphStatistics& g) {
 }
 
 void writeScenario(const std::string& path, const Scenario& scenario) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "kind,index,x,y\n";
     for (std::size_t k = 0; k < scenario.waypoints.size(); ++k) {
       out << "waypoint," << k << ',' << num(scenario.waypoints[k][0]) << ','
@@ -129,7 +129,7 @@ void writeScenario(const std::string& path, const Scenario& scenario) {
 }
 
 void writeSummary(const std::string& path, const RunResult& r) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     const Summary& f = r.final_summary;
     out << "quantity,value\nsteps," << r.steps.size() << "\noptimizations," << r.optimizations
         << "\ntotal_optimization_time," << num(r.total_optimization_time)
@@ -258,7 +258,7 @@ void printDrivebotReport(const Scenario& scenario, const RunResult& r, bool lase
 void writeDrivebotResults(const std::string& out_dir, const Scenario& scenario, const RunResult& r,
                           const Graph& graph, const TypeRegistry& types) {
   writeSteps(out_dir + "/steps.csv", r);
-  writeFileAtomically(out_dir + "/landmarks.csv", [&](std::ostream& out) {
+  support::writeFileAtomically(out_dir + "/landmarks.csv", [&](std::ostream& out) {
     out << kLandmarkHeader;
     writeLandmarks(out, r.landmarks, scenario, "");
   });

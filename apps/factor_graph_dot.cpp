@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -124,7 +124,7 @@ void plotFactorGraph(const std::string& out, const Graph& graph, const TypeRegis
                      "'");
   }
   const std::string dot_file = ext == "dot" ? out : out + ".dot";
-  writeFileAtomically(
+  support::writeFileAtomically(
       dot_file, [&](std::ostream& s) { writeFactorGraphDot(s, graph, types, options.title); });
   if (ext == "dot") {
     std::printf("wrote %s (draw it with: dot -Tpng %s -o FILE.png)\n", out.c_str(), out.c_str());

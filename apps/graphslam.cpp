@@ -15,16 +15,16 @@
 
 #include "builtins.h"
 #include "cli_common.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/core/plugin.h"
-#include "graphslam/homework/point_ground_truth.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/eval/point_errors.h"
+#include "graphslam/init/global_se2.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/simulation/simulator.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
+#include "graphslam/support/logging.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "input.h"
@@ -119,7 +119,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
               << "\n";
     return summary.status == MarginalStatus::kUnconstrained ? kExitBadInput : kExitFailed;
   }
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "# graphslam marginal covariances: vertex id, then the upper triangle of its "
            "covariance row by row\n";
     std::string line;
@@ -127,7 +127,7 @@ int writeMarginals(Graph& graph, const Registries& reg, const std::string& path,
       const Eigen::MatrixXd& c = marginals.block(id);
       line = std::to_string(id);
       for (int r = 0; r < c.rows(); ++r) {
-        for (int k = r; k < c.cols(); ++k) line += ' ' + formatDouble(c(r, k));
+        for (int k = r; k < c.cols(); ++k) line += ' ' + support::formatDouble(c(r, k));
       }
       out << line << '\n';
     }
@@ -285,7 +285,7 @@ void checkRegistered(const OptimizeOptions& o, const Registries& reg) {
 /// The input file, or the built-in default graph without one.
 LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
   InputOptions input_options;
-  input_options.npz_model = parseNpzModel(o.npz_model);
+  input_options.npz_model = o.npz_model;
   input_options.threads = o.options.threads;
   input_options.information = parseInformationRepair(o.information);
   checkInitChoice(o.init);
@@ -298,7 +298,7 @@ LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
     auto simulated = simulation::simulateManhattan(sim);
     in.graph = std::move(simulated.graph);
   } else {
-    in = loadInput(o.input, reg.types, input_options);
+    in = loadInput(o.input, reg, input_options);
     std::cout << o.input << ": " << in.description << "\n";
     for (const auto& note : in.notes) std::cout << "  " << note << "\n";
   }
@@ -325,10 +325,10 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
     }
     csv.push_back(csvLine(s));
   };
-  setLogLevel(LogLevel::kInfo);
-  setLogSink([](LogLevel level, const std::string& msg) {
-    std::fprintf(level >= LogLevel::kWarning ? stderr : stdout, "%s: %s\n", toString(level),
-                 msg.c_str());
+  support::setLogLevel(support::LogLevel::kInfo);
+  support::setLogSink([](support::LogLevel level, const std::string& msg) {
+    std::fprintf(level >= support::LogLevel::kWarning ? stderr : stdout, "%s: %s\n",
+                 toString(level), msg.c_str());
   });
   Optimizer optimizer(graph, solvers, o.options);
   const Summary summary = optimizer.optimize();
@@ -337,7 +337,7 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
 }
 
 void writeStats(const std::string& path, const std::vector<std::string>& csv) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
            "time_factorize,time_solve,elapsed,cg_iterations,dogleg_halvings\n";
     for (const auto& line : csv) out << line << "\n";
@@ -346,7 +346,7 @@ void writeStats(const std::string& path, const std::vector<std::string>& csv) {
 
 void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summary& summary,
                    const Graph& graph, const std::map<VertexId, Eigen::Vector2d>& initial_positions,
-                   const homework::PointGroundTruth& truth) {
+                   const io::PointGroundTruth& truth) {
   std::ostringstream title;
   title << (o.input.empty() ? std::string("built-in default graph")
                             : std::filesystem::path(o.input).filename().string())
@@ -394,7 +394,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
   Registries reg;
   loadRegistries(reg, o.plugins);
   checkRegistered(o, reg);
-  checkRobustOptions(o.robust, reg.types);
+  checkRobustOptions(o.robust, reg);
   // Every output is checked before the work starts and written all or nothing.
   OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file},
                     {o.input});
@@ -425,17 +425,17 @@ int cmdOptimize(const std::vector<std::string>& args) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
-  applyRobustOptions(o.robust, graph, reg.types);
+  applyRobustOptions(o.robust, graph, reg);
   // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
-  const auto initial_errors = homework::positionErrors(graph, in.ground_truth);
+  const auto initial_errors = eval::positionErrors(graph, in.ground_truth);
 
   const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
   const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
   finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
-    const auto final_errors = homework::positionErrors(graph, in.ground_truth);
+    const auto final_errors = eval::positionErrors(graph, in.ground_truth);
     std::printf("position error vs ground truth (m), initial -> final:\n");
     printErrors("poses", initial_errors.poses, final_errors.poses);
     printErrors("landmarks", initial_errors.landmarks, final_errors.landmarks);

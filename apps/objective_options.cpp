@@ -13,10 +13,9 @@ void checkObjective(const std::string& objective) {
   }
 }
 
-std::unique_ptr<chordal::ChordalObjective> applyObjective(const std::string& objective,
-                                                          Graph& graph) {
+std::unique_ptr<init::ChordalObjective> applyObjective(const std::string& objective, Graph& graph) {
   if (objective != "chordal") return nullptr;
-  auto switched = std::make_unique<chordal::ChordalObjective>(graph);
+  auto switched = std::make_unique<init::ChordalObjective>(graph);
   std::printf("objective: chordal (SE-Sync's), %zu relative-pose edges switched\n",
               switched->switched());
   if (switched->skipped() > 0) {
@@ -26,7 +25,7 @@ std::unique_ptr<chordal::ChordalObjective> applyObjective(const std::string& obj
   return switched;
 }
 
-void finishObjective(chordal::ChordalObjective* objective, Graph& graph) {
+void finishObjective(init::ChordalObjective* objective, Graph& graph) {
   if (!objective) return;
   std::printf("SE-Sync's f: %.10g\n", objective->value());
   objective->restore();

@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
-#include "graphslam/chordal/objective.h"
 #include "graphslam/core/graph.h"
+#include "graphslam/init/chordal_objective.h"
 
 namespace graphslam::apps {
 
@@ -15,11 +15,11 @@ void checkObjective(const std::string& objective);
 
 /// For chordal: switches the graph's relative-pose edges to SE-Sync's terms and says how
 /// many; null for g2o (nothing to switch).
-[[nodiscard]] std::unique_ptr<chordal::ChordalObjective> applyObjective(
-    const std::string& objective, Graph& graph);
+[[nodiscard]] std::unique_ptr<init::ChordalObjective> applyObjective(const std::string& objective,
+                                                                     Graph& graph);
 
 /// After optimising: prints SE-Sync's f, restores the original edges (so the graph can be
 /// written) and prints chi2 in g2o's cost there. Nothing for a null objective.
-void finishObjective(chordal::ChordalObjective* objective, Graph& graph);
+void finishObjective(init::ChordalObjective* objective, Graph& graph);
 
 }  // namespace graphslam::apps

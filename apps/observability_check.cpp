@@ -6,8 +6,8 @@
 #include <iostream>
 #include <unordered_set>
 
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::apps {
 

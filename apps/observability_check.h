@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/core/observability.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/diagnostics/observability.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "input.h"
 
 namespace graphslam::apps {

@@ -6,10 +6,10 @@
 #include <iostream>
 
 #include "cli_common.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/global_se2.h"
 #include "graphslam/outliers/robust_init.h"
+#include "graphslam/support/file_util.h"
+#include "graphslam/support/logging.h"
 
 namespace graphslam::apps {
 
@@ -119,7 +119,7 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
     std::fflush(stdout);
   };
   // The optimizer's notes (the gauge it fixes) would repeat at every step.
-  setLogLevel(LogLevel::kWarning);
+  support::setLogLevel(support::LogLevel::kWarning);
   if (o.global_start) {
     const auto init_solver = solvers.create("auto");
     outliers::GlobalStartReport start;
@@ -128,7 +128,7 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
   } else {
     result = outliers::runGnc(graph, solvers, o.gnc);
   }
-  setLogLevel(LogLevel::kInfo);
+  support::setLogLevel(support::LogLevel::kInfo);
   if (!result.ok) {
     std::cerr << "outlier rejection failed: " << result.message << "\n";
     return false;
@@ -147,7 +147,7 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
 
 void writeOutliersFile(const std::string& path, const outliers::GncResult& result,
                        const std::vector<std::size_t>& edge_lines, const std::string& shown) {
-  writeFileAtomically(path, [&](std::ostream& out) {
+  support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "# line vertex_ids... chi2 (rejected edges; line in the input file, chi2 at the end "
            "of the GNC)\n";
     char chi2[32];

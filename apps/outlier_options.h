@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/outliers/gnc.h"
 #include "graphslam/outliers/robust_init.h"
 #include "input.h"

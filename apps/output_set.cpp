@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::apps {
 

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <set>
 
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 
 namespace graphslam::apps {
@@ -90,18 +90,18 @@ void runPlotScript(const std::string& script, const std::vector<std::string>& ar
   }
 }
 
-/// Positions of the vertices that have one (see homework::vertexPosition), by id.
+/// Positions of the vertices that have one (see eval::vertexPosition), by id.
 std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph) {
   std::map<VertexId, Eigen::Vector2d> out;
   for (const auto& [id, v] : graph.vertices()) {
     Eigen::Vector2d p;
-    if (homework::vertexPosition(*v, p)) out.emplace(id, p);
+    if (eval::vertexPosition(*v, p)) out.emplace(id, p);
   }
   return out;
 }
 
-void printErrors(const char* what, const homework::PositionErrorStats& before,
-                 const homework::PositionErrorStats& after) {
+void printErrors(const char* what, const eval::PositionErrorStats& before,
+                 const eval::PositionErrorStats& after) {
   if (!after.count) return;
   std::printf(
       "  %-10s %5zu   rmse %.6f  mean %.6f  max %.6f   ->   rmse %.6f  mean %.6f  max %.6f\n", what,
@@ -112,7 +112,7 @@ void printErrors(const char* what, const homework::PositionErrorStats& before,
 /// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const homework::PointGroundTruth& truth, const std::string& shown) {
+                const io::PointGroundTruth& truth, const std::string& shown) {
   std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
   if (truth.empty()) {
     for (const auto& [id, v] : graph.vertices()) {
@@ -120,7 +120,7 @@ void plotPoints(const std::string& png, const std::string& title, const Graph& g
     }
   }
   const std::string data = png + ".points.csv";
-  writeFileAtomically(data, [&](std::ostream& out) {
+  support::writeFileAtomically(data, [&](std::ostream& out) {
     out.precision(17);
     out << "set,role,id,x,y\n";
     auto write = [&](const char* set, const std::map<VertexId, Eigen::Vector2d>& points) {

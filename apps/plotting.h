@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/homework/point_ground_truth.h"
+#include "graphslam/eval/point_errors.h"
 
 namespace graphslam::apps {
 
@@ -36,18 +36,18 @@ struct TemporaryFile {
   std::string path;
 };
 
-/// Positions of the vertices that have one (see homework::vertexPosition), by id.
+/// Positions of the vertices that have one (see eval::vertexPosition), by id.
 [[nodiscard]] std::map<VertexId, Eigen::Vector2d> positions(const Graph& graph);
 
 /// Prints one line "what count rmse mean max -> rmse mean max".
-void printErrors(const char* what, const homework::PositionErrorStats& before,
-                 const homework::PositionErrorStats& after);
+void printErrors(const char* what, const eval::PositionErrorStats& before,
+                 const eval::PositionErrorStats& after);
 
 /// Writes the initial / final / ground-truth positions as CSV and draws them
 /// (plot_points.py). Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 /// `shown`: the name the "wrote" line gives (default `png`; a staged output's final name).
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const homework::PointGroundTruth& truth, const std::string& shown = {});
+                const io::PointGroundTruth& truth, const std::string& shown = {});
 
 }  // namespace graphslam::apps

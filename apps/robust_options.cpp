@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "cli_common.h"
-#include "graphslam/core/error.h"
 #include "graphslam/robust/apply.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::apps {
 
@@ -27,29 +27,29 @@ void declareRobustOptions(po::options_description& desc, RobustOptions& o) {
       "edges of one .g2o tag");
 }
 
-void checkRobustOptions(const RobustOptions& o, const TypeRegistry& types) {
+void checkRobustOptions(const RobustOptions& o, const Registries& reg) {
   if (o.kernel.empty()) {
     if (!o.edges.empty()) throw UsageError("--robust-edges needs --robust-kernel NAME[:WIDTH]");
     return;
   }
   try {
-    (void)robust::parseKernelSpec(o.kernel, types);
+    (void)robust::parseKernelSpec(o.kernel, reg.kernels);
   } catch (const RegistryError& e) {
     throw UsageError(std::string("--robust-kernel: ") + e.what());
   }
   try {
-    (void)robust::parseEdgeSelection(selectionText(o), types);
+    (void)robust::parseEdgeSelection(selectionText(o), reg.types);
   } catch (const RegistryError& e) {
     throw UsageError(std::string("--robust-edges: ") + e.what());
   }
 }
 
-void applyRobustOptions(const RobustOptions& o, Graph& graph, const TypeRegistry& types) {
+void applyRobustOptions(const RobustOptions& o, Graph& graph, const Registries& reg) {
   if (o.kernel.empty()) return;
-  const robust::KernelSpec spec = robust::parseKernelSpec(o.kernel, types);
-  const auto kernel = robust::createKernel(spec, types);
-  const robust::EdgeSelector selector = robust::parseEdgeSelection(selectionText(o), types);
-  const std::size_t n = robust::applyRobustKernel(graph, kernel, selector, types);
+  const robust::KernelSpec spec = robust::parseKernelSpec(o.kernel, reg.kernels);
+  const auto kernel = robust::createKernel(spec, reg.kernels);
+  const robust::EdgeSelector selector = robust::parseEdgeSelection(selectionText(o), reg.types);
+  const std::size_t n = robust::applyRobustKernel(graph, kernel, selector, reg.types);
   std::printf("robust kernel %s (width %.6g) on %zu of %zu edges (%s)\n", spec.name.c_str(),
               kernel->width(), n, graph.numEdges(), selectionText(o).c_str());
   if (n == 0) {
@@ -67,7 +67,7 @@ int cmdListKernels(const std::vector<std::string>& args) {
                     reg)) {
     return kExitOk;
   }
-  for (const auto* k : reg.types.kernels()) {
+  for (const auto* k : reg.kernels.entries()) {
     std::printf("%-16s width %-10.6g (%s)\n", k->name.c_str(), k->default_width, k->origin.c_str());
   }
   return kExitOk;

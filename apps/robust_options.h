@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.h"
 #include "graphslam/core/graph.h"
 #include "graphslam/core/type_registry.h"
 
@@ -21,11 +22,11 @@ void declareRobustOptions(boost::program_options::options_description& desc, Rob
 
 /// Checks the options against the registered kernels and edge tags; UsageError (exit 2)
 /// naming the known ones when they are wrong.
-void checkRobustOptions(const RobustOptions& o, const TypeRegistry& types);
+void checkRobustOptions(const RobustOptions& o, const Registries& reg);
 
 /// Gives the selected edges of `graph` the kernel and says so on stdout (nothing without
 /// --robust-kernel).
-void applyRobustOptions(const RobustOptions& o, Graph& graph, const TypeRegistry& types);
+void applyRobustOptions(const RobustOptions& o, Graph& graph, const Registries& reg);
 
 /// graphslam list-kernels [--plugin LIB]...
 int cmdListKernels(const std::vector<std::string>& args);

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "graphslam/core/linear_system.h"
+#include "graphslam/optimizer/linear_system.h"
 
 namespace graphslam::apps {
 

@@ -17,16 +17,16 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/large_array.h"
 #include "graphslam/core/linear_solver.h"
-#include "graphslam/core/logging.h"
 #include "graphslam/core/type_registry.h"
-#include "graphslam/init/chordal3d.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/chordal_se3.h"
+#include "graphslam/init/global_se2.h"
+#include "graphslam/io/g2o.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/large_array.h"
+#include "graphslam/support/logging.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"
 
@@ -84,11 +84,11 @@ struct Registries {
 /// BadInput 2, anything else 1.
 template <typename Body>
 int guardedMain(Body&& body) {
-  setLogLevel(LogLevel::kWarning);
+  support::setLogLevel(support::LogLevel::kWarning);
   // The process-wide settings the graphslam tool makes, so that the figures compare
   // (OpenMP: serialiseOpenMp(), for every OpenMP user of the program).
   solvers::installCholmodPrefaultingAllocator();
-  setLargeArrayRetention(LargeArrayRetention{});
+  support::setLargeArrayRetention(support::LargeArrayRetention{});
   try {
     return body();
   } catch (const BadInput& e) {

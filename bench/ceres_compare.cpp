@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "bench_common.h"
-#include "graphslam/core/linear_system.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/linear_system.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
 #include "graphslam/types_slam3d/edges.h"

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "bench_common.h"
-#include "graphslam/core/linear_system.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/linear_system.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/ordering.h"
 
 using namespace graphslam;
@@ -46,7 +46,7 @@ struct BareFactorisation {
 /// cholmod_analyze_p with `perm`, then `repeats` timed cholmod_factorize calls, with the
 /// Common settings of the library's "cholmod" / "cholmod-simplicial" solvers
 /// (solvers/src/cholmod_solver.cpp).
-BareFactorisation timeCholmod(const SparseStructure& s, const LargeVector<double>& values,
+BareFactorisation timeCholmod(const SparseStructure& s, const support::LargeVector<double>& values,
                               const std::vector<int>& perm, bool supernodal, int repeats) {
   cholmod_common c;
   cholmod_start(&c);

@@ -12,9 +12,9 @@
 #include <string>
 #include <string_view>
 
-#include "graphslam/core/io_g2o.h"
 #include "graphslam/core/type_registry.h"
-#include "graphslam/formats/text_format.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/io/toro_isam.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"
 
@@ -38,21 +38,21 @@ std::size_t countLines(std::string_view text) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  namespace formats = graphslam::formats;
+  namespace io = graphslam::io;
   if (size == 0) return 0;
   const std::uint8_t mode = data[0];
   const std::string_view text(reinterpret_cast<const char*>(data) + 1, size - 1);
-  formats::TextFormat format = formats::detectTextFormat(text);
-  if ((mode & 3) == 1) format = formats::TextFormat::kToro;
-  if ((mode & 3) == 2) format = formats::TextFormat::kIsam;
-  const formats::Translation t = formats::translate(text, "fuzz.graph", format);
+  io::TextFormat format = io::detectTextFormat(text);
+  if ((mode & 3) == 1) format = io::TextFormat::kToro;
+  if ((mode & 3) == 2) format = io::TextFormat::kIsam;
+  const io::Translation t = io::translate(text, "fuzz.graph", format);
   for (const auto& d : t.diagnostics) (void)d.str();
   if (!t.ok()) return 0;
   // Line for line: the .g2o reader's FILE:LINE diagnostics point into the source text.
-  if (format != formats::TextFormat::kG2o && countLines(t.g2o) != countLines(text)) std::abort();
+  if (format != io::TextFormat::kG2o && countLines(t.g2o) != countLines(text)) std::abort();
   graphslam::io::LoadOptions options;
   options.threads = (mode & 4) ? 2 : 1;
-  options.create_missing_vertices = format == formats::TextFormat::kIsam || (mode & 8) != 0;
+  options.create_missing_vertices = format == io::TextFormat::kIsam || (mode & 8) != 0;
   options.chunk_bytes = 4096;
   options.max_line_bytes = 4096;
   std::istringstream in(t.g2o);

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "graphslam/core/information.h"
-#include "graphslam/core/io_g2o.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/diagnostics/information.h"
+#include "graphslam/io/g2o.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"

@@ -9,15 +9,15 @@
 #include <cstdio>
 #include <string>
 
-#include "graphslam/core/error.h"
-#include "graphslam/homework/coursework_npz.h"
-#include "graphslam/homework/io_npz.h"
+#include "graphslam/io/coursework_npz.h"
+#include "graphslam/io/npz.h"
+#include "graphslam/support/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   try {
     if ((data[0] & 1) == 0) {
-      (void)graphslam::homework::parseNpy(data + 1, size - 1, "fuzz.npy");
+      (void)graphslam::io::parseNpy(data + 1, size - 1, "fuzz.npy");
       return 0;
     }
     static const std::string path = "/tmp/graphslam-fuzz-" + std::to_string(::getpid()) + ".npz";
@@ -25,10 +25,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!f) return 0;
     std::fwrite(data + 1, 1, size - 1, f);
     std::fclose(f);
-    graphslam::homework::CourseworkNpzOptions options;
-    options.model = (data[0] & 2) ? graphslam::homework::PointObservationModel::kLinear
-                                  : graphslam::homework::PointObservationModel::kAuto;
-    (void)graphslam::homework::loadCourseworkNpz(path, options);
+    graphslam::io::CourseworkNpzOptions options;
+    options.model = (data[0] & 2) ? graphslam::io::PointObservationModel::kLinear
+                                  : graphslam::io::PointObservationModel::kAuto;
+    (void)graphslam::io::loadCourseworkNpz(path, options);
   } catch (const graphslam::Error&) {
   }
   return 0;

@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "graphslam/core/error.h"
 #include "graphslam/drivebot/scenario.h"
+#include "graphslam/support/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::string dir = "/tmp/graphslam-fuzz-scenario-" + std::to_string(::getpid());

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "graphslam/core/error.h"
-#include "graphslam/eval/trajectory.h"
-#include "graphslam/homework/pose_graph_io.h"
+#include "graphslam/io/relative_poses.h"
+#include "graphslam/io/trajectory.h"
+#include "graphslam/support/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
@@ -17,14 +17,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     switch (data[0] % 3) {
       case 0:
-        (void)graphslam::eval::readTum(in, "fuzz.tum");
+        (void)graphslam::io::readTum(in, "fuzz.tum");
         break;
       case 1:
-        (void)graphslam::eval::readKitti(in, "fuzz.kitti");
+        (void)graphslam::io::readKitti(in, "fuzz.kitti");
         break;
       default: {
-        const Eigen::Matrix3Xd m = graphslam::eval::readMatrix3xN(in, "fuzz.txt");
-        if (m.cols() <= 4096) (void)graphslam::homework::poseGraphFromRelativePoses(m);
+        const Eigen::Matrix3Xd m = graphslam::io::readMatrix3xN(in, "fuzz.txt");
+        if (m.cols() <= 4096) (void)graphslam::io::poseGraphFromRelativePoses(m);
       }
     }
   } catch (const graphslam::Error&) {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam {
 

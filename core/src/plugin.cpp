@@ -2,66 +2,109 @@
 #include "graphslam/core/plugin.h"
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 
-#include <boost/dll/shared_library.hpp>
 #include <algorithm>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <sstream>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam {
 
 namespace {
 
-/// The dynamic loader's own reason why `path` does not load (missing file, not a shared
-/// object, unresolved symbol, ...), else `fallback`.
-std::string loadFailure(const std::string& path, const std::string& fallback) {
-  dlerror();  // clears an earlier message
-  if (void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL)) {
-    dlclose(handle);
-    return fallback;
+/// The highest plugin ABI a foreign plugin is looked for under (its entry's name).
+constexpr std::uint32_t kHighestAbiProbed = 128;
+
+/// The symbol of the entry before the ABI was versioned (ABI 1).
+constexpr const char* kAbi1Entry = "graphslam_plugin_register";
+
+/// The ABI a library was built for when it is not ours: 1 for the unversioned entry, N for
+/// graphslam_plugin_register_abiN; 0 when it has no graphslam entry at all.
+std::uint32_t foreignAbi(void* handle) {
+  for (std::uint32_t abi = 2; abi <= kHighestAbiProbed; ++abi) {
+    if (abi != kPluginAbiVersion && dlsym(handle, pluginEntrySymbol(abi).c_str()) != nullptr) {
+      return abi;
+    }
   }
-  const char* reason = dlerror();
-  return reason ? reason : fallback;
+  return dlsym(handle, kAbi1Entry) != nullptr ? 1 : 0;
+}
+
+/// "DEVICE:INODE" of the file at `path`, or the path itself when it cannot be read.
+std::string fileIdentity(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return path;
+  return std::to_string(static_cast<unsigned long long>(st.st_dev)) + ":" +
+         std::to_string(static_cast<unsigned long long>(st.st_ino));
+}
+
+/// Calls the entry, turning every exception (std or not) into graphslam::Error.
+void callEntry(PluginEntryFunction* entry, const PluginHost& host, const std::string& path) {
+  host.setOrigin(path);
+  try {
+    entry(host);
+  } catch (const std::exception& ex) {
+    host.setOrigin("");
+    throw Error("plugin '" + path + "': registration failed: " + ex.what());
+  } catch (...) {
+    host.setOrigin("");
+    throw Error("plugin '" + path +
+                "': registration failed: it threw an exception that is not "
+                "a std::exception");
+  }
+  host.setOrigin("");
 }
 
 }  // namespace
 
-struct Plugin::Impl {
-  boost::dll::shared_library library;
-};
+std::string pluginEntrySymbol(std::uint32_t abi) {
+  return "graphslam_plugin_register_abi" + std::to_string(abi);
+}
 
-Plugin::Plugin(std::string path, std::unique_ptr<Impl> impl)
-    : path_(std::move(path)), impl_(std::move(impl)) {}
+void PluginHost::setOrigin(const std::string& origin) const {
+  if (types) types->setOrigin(origin);
+  if (solvers) solvers->setOrigin(origin);
+  if (kernels) kernels->setOrigin(origin);
+}
 
-Plugin::~Plugin() = default;
+Plugin::Plugin(std::string path, std::string identity, void* handle)
+    : path_(std::move(path)), identity_(std::move(identity)), handle_(handle) {}
 
-std::unique_ptr<Plugin> Plugin::load(const std::string& path, TypeRegistry& types,
-                                     SolverRegistry& solvers) {
-  auto impl = std::make_unique<Impl>();
-  boost::dll::fs::error_code ec;
-  impl->library.load(path, boost::dll::load_mode::default_mode, ec);
-  if (ec) throw Error("plugin '" + path + "': cannot load: " + loadFailure(path, ec.message()));
-  if (!impl->library.has(GRAPHSLAM_PLUGIN_ENTRY)) {
-    throw Error("plugin '" + path +
-                "': no symbol '" GRAPHSLAM_PLUGIN_ENTRY "' (declare it extern \"C\")");
+Plugin::~Plugin() {
+  if (handle_) dlclose(handle_);
+}
+
+std::unique_ptr<Plugin> Plugin::load(const std::string& path, const PluginHost& host) {
+  if (host.abi_version != kPluginAbiVersion) {
+    throw Error("plugin '" + path + "': the program's PluginHost says ABI " +
+                std::to_string(host.abi_version) + ", this library is ABI " +
+                std::to_string(kPluginAbiVersion));
   }
-  auto& entry = impl->library.get<PluginRegisterFunction>(GRAPHSLAM_PLUGIN_ENTRY);
-  types.setOrigin(path);
-  solvers.setOrigin(path);
-  try {
-    entry(types, solvers);
-  } catch (const std::exception& ex) {
-    types.setOrigin("");
-    solvers.setOrigin("");
-    throw Error("plugin '" + path + "': registration failed: " + ex.what());
+  dlerror();  // clears an earlier message
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* reason = dlerror();
+    throw Error("plugin '" + path + "': cannot load: " + (reason ? reason : "unknown reason"));
   }
-  types.setOrigin("");
-  solvers.setOrigin("");
-  return std::unique_ptr<Plugin>(new Plugin(path, std::move(impl)));
+  // Owned from here: closed on every error below.
+  std::unique_ptr<Plugin> plugin(new Plugin(path, fileIdentity(path), handle));
+  const std::string symbol = pluginEntrySymbol(kPluginAbiVersion);
+  auto* entry = reinterpret_cast<PluginEntryFunction*>(dlsym(handle, symbol.c_str()));
+  if (!entry) {
+    const std::uint32_t abi = foreignAbi(handle);
+    if (abi != 0) {
+      throw Error("plugin '" + path + "': built for plugin ABI " + std::to_string(abi) +
+                  ", this graphslam has plugin ABI " + std::to_string(kPluginAbiVersion) +
+                  ": rebuild the plugin against this version's headers");
+    }
+    throw Error("plugin '" + path + "': not a graphslam plugin (no symbol '" + symbol +
+                "': define it with GRAPHSLAM_PLUGIN_ENTRY)");
+  }
+  callEntry(entry, host, path);
+  return plugin;
 }
 
 std::vector<std::string> findPluginFiles(const std::vector<std::string>& directories) {
@@ -95,11 +138,14 @@ std::vector<std::string> pluginPathFromEnvironment() {
   return out;
 }
 
-std::vector<std::unique_ptr<Plugin>> loadPlugins(const std::vector<std::string>& paths,
-                                                 TypeRegistry& types, SolverRegistry& solvers) {
-  std::vector<std::unique_ptr<Plugin>> out;
-  for (const auto& path : paths) out.push_back(Plugin::load(path, types, solvers));
-  return out;
+void loadPlugins(const std::vector<std::string>& paths, const PluginHost& host,
+                 std::vector<std::unique_ptr<Plugin>>& plugins) {
+  for (const auto& path : paths) {
+    const std::string identity = fileIdentity(path);
+    const bool loaded = std::any_of(plugins.begin(), plugins.end(),
+                                    [&](const auto& p) { return p->identity() == identity; });
+    if (!loaded) plugins.push_back(Plugin::load(path, host));
+  }
 }
 
 }  // namespace graphslam

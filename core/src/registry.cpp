@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
-#include <cxxabi.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
 
-#include "graphslam/core/error.h"
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam {
 
@@ -107,31 +106,30 @@ std::vector<const TypeRegistry::Entry*> TypeRegistry::entries() const {
   return out;
 }
 
-void TypeRegistry::registerKernel(const std::string& name, double default_width,
-                                  RobustKernelFactory factory) {
+void KernelRegistry::registerKernel(const std::string& name, double default_width,
+                                    RobustKernelFactory factory) {
   checkName(name, "kernel name");
   if (!factory) throw RegistryError("null factory for kernel '" + name + "'");
   if (!(default_width > 0.0) || !std::isfinite(default_width)) {
     throw RegistryError("kernel '" + name + "': default width must be positive and finite");
   }
-  if (const auto it = kernels_.find(name); it != kernels_.end()) {
+  if (const auto it = entries_.find(name); it != entries_.end()) {
     throw RegistryError("kernel '" + name + "' is already registered" +
                         twiceBy(it->second.origin, origin_));
   }
-  kernels_.emplace(name, KernelEntry{name, default_width, origin_, std::move(factory)});
+  entries_.emplace(name, Entry{name, default_width, origin_, std::move(factory)});
 }
 
-const TypeRegistry::KernelEntry* TypeRegistry::findKernel(const std::string& name) const {
-  auto it = kernels_.find(name);
-  return it == kernels_.end() ? nullptr : &it->second;
+const KernelRegistry::Entry* KernelRegistry::find(const std::string& name) const {
+  auto it = entries_.find(name);
+  return it == entries_.end() ? nullptr : &it->second;
 }
 
-std::shared_ptr<RobustKernel> TypeRegistry::createKernel(const std::string& name,
-                                                         double width) const {
-  const KernelEntry* k = findKernel(name);
+std::shared_ptr<RobustKernel> KernelRegistry::create(const std::string& name, double width) const {
+  const Entry* k = find(name);
   if (!k) {
     std::string known;
-    for (const auto& [n, entry] : kernels_) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& [n, entry] : entries_) known += (known.empty() ? "" : ", ") + n;
     throw RegistryError(
         "unknown robust kernel '" + name + "'" +
         (known.empty() ? std::string(" (none is registered)") : " (known: " + known + ")"));
@@ -146,9 +144,9 @@ std::shared_ptr<RobustKernel> TypeRegistry::createKernel(const std::string& name
   return kernel;
 }
 
-std::vector<const TypeRegistry::KernelEntry*> TypeRegistry::kernels() const {
-  std::vector<const KernelEntry*> out;
-  for (const auto& [name, entry] : kernels_) out.push_back(&entry);
+std::vector<const KernelRegistry::Entry*> KernelRegistry::entries() const {
+  std::vector<const Entry*> out;
+  for (const auto& [name, entry] : entries_) out.push_back(&entry);
   return out;
 }
 
@@ -321,13 +319,6 @@ void SolverRegistry::registerOrdering(Ordering ordering, OrderingFunction functi
 const SolverRegistry::OrderingFunction* SolverRegistry::ordering(Ordering ordering) const {
   const auto it = orderings_.find(ordering);
   return it == orderings_.end() ? nullptr : &it->second;
-}
-
-std::string typeName(const std::type_info& type) {
-  int status = 0;
-  const std::unique_ptr<char, void (*)(void*)> name(
-      abi::__cxa_demangle(type.name(), nullptr, nullptr, &status), std::free);
-  return status == 0 && name ? std::string(name.get()) : std::string(type.name());
 }
 
 }  // namespace graphslam

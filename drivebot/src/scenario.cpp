@@ -9,9 +9,9 @@
 #include <string_view>
 #include <system_error>
 
-#include "graphslam/core/error.h"
-#include "graphslam/core/internal/file_util.h"
-#include "graphslam/core/internal/text_tokens.h"
+#include "graphslam/io/text_tokens.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 
 namespace graphslam::drivebot {
 
@@ -24,12 +24,12 @@ double parseValue(const std::string& token, const std::string& where) {
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
   if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
-    throw InputError(where + detail::quote(token) + " is out of the range of a double");
+    throw InputError(where + io::quote(token) + " is out of the range of a double");
   }
   if (ec != std::errc() || ptr != digits.data() + digits.size()) {
-    throw InputError(where + detail::quote(token) + " is not a number");
+    throw InputError(where + io::quote(token) + " is not a number");
   }
-  if (!std::isfinite(v)) throw InputError(where + detail::quote(token) + " is not finite");
+  if (!std::isfinite(v)) throw InputError(where + io::quote(token) + " is not finite");
   return v;
 }
 
@@ -38,17 +38,18 @@ double parseValue(const std::string& token, const std::string& where) {
 std::vector<std::vector<double>> readRows(const std::string& path, int min_cols, int max_cols) {
   errno = 0;
   std::ifstream in(path);
-  if (!in) throw InputError(cannotOpenMessage(path, errno));
+  if (!in) throw InputError(support::cannotOpenMessage(path, errno));
   std::vector<std::vector<double>> rows;
   std::string line;
   int line_no = 0;
   while (true) {
-    const LineRead read = readBoundedLine(in, line, kMaxTextLineBytes);
-    if (read == LineRead::kEnd) break;
+    const support::LineRead read = support::readBoundedLine(in, line, support::kMaxTextLineBytes);
+    if (read == support::LineRead::kEnd) break;
     ++line_no;
     const std::string where = path + ":" + std::to_string(line_no) + ": ";
-    if (read == LineRead::kTooLong) {
-      throw InputError(where + "the line is longer than " + std::to_string(kMaxTextLineBytes) +
+    if (read == support::LineRead::kTooLong) {
+      throw InputError(where + "the line is longer than " +
+                       std::to_string(support::kMaxTextLineBytes) +
                        " bytes: not a line of numbers");
     }
     std::istringstream fields(line);
@@ -148,6 +149,16 @@ Scenario findScenario(const std::string& name, const std::string& data_dir) {
   for (const auto& n : builtinScenarioNames()) known += " " + n;
   throw InputError("scenario '" + name + "' is neither built in (" + known.substr(1) +
                    ") nor a directory with x0.txt, wp.txt, lm.txt at " + dir);
+}
+
+void registerFormats(io::FormatRegistry& formats) {
+  io::Format<Scenario> scenario;
+  scenario.name = "scenario";
+  scenario.description = "DriveBot scenario folder: x0.txt, wp.txt, lm.txt";
+  scenario.read_folder = [](const std::string& folder, const io::ReadContext&) {
+    return loadScenario(folder);
+  };
+  formats.add(std::move(scenario));
 }
 
 }  // namespace graphslam::drivebot

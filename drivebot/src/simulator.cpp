@@ -5,11 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/se2.h"
 
 namespace graphslam::drivebot {
-
 
 using types_slam2d::normalizeAngle;
 

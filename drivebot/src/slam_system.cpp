@@ -7,7 +7,7 @@
 #include <cmath>
 #include <set>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_drivebot/edge_compass.h"
 #include "graphslam/types_drivebot/edge_gps.h"
 #include "graphslam/types_drivebot/edge_landmark_range_bearing.h"

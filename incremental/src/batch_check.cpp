@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graphslam/incremental/graph_copy.h"
+#include "graphslam/core/graph_copy.h"
 #include "graphslam/incremental/replay.h"
 
 namespace graphslam::incremental {

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "dense_front.h"
-#include "graphslam/core/internal/fixed_size.h"
+#include "graphslam/support/fixed_size.h"
 #include "ordering.h"
 
 namespace graphslam::incremental {
@@ -520,7 +520,7 @@ double BlockFactor::solveNode(int p, double threshold) {
   }();
   rv = ConstVectorMap(y_.data() + starts_[p], dp);
   // The common vertex dimensions with the loop over them unrolled.
-  detail::withFixedSize<2, 3, 6>(
+  support::withFixedSize<2, 3, 6>(
       dp, [&](auto fixed) { subtractBelow<decltype(fixed)::value>(c, dp, rv.data()); });
   // L(p, p)^T x = r by hand: Eigen's general triangular solver costs more than the few
   // multiplications of a vertex block.

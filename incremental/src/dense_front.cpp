@@ -4,10 +4,10 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 
-#include "graphslam/core/internal/fixed_size.h"
+#include "graphslam/support/fixed_size.h"
 
 #ifdef GRAPHSLAM_INCREMENTAL_HAVE_LAPACK
-#include "graphslam/core/internal/blas.h"
+#include "graphslam/support/blas.h"
 #endif
 
 namespace graphslam::incremental {
@@ -104,7 +104,7 @@ bool eliminateLeadingSmall(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::Vec
     for (Index l = 0; l < j; ++l) r[j] -= at(j, l) * r[l];
     r[j] /= at(j, j);
   }
-  detail::withFixedSize<2, 3, 4, 5, 6>(
+  support::withFixedSize<2, 3, 4, 5, 6>(
       k, [&](auto fixed) { subtractOuterProduct<decltype(fixed)::value>(a, n, k, r); });
   return true;
 }

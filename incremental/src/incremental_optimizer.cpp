@@ -5,8 +5,8 @@
 #include <unordered_map>
 
 #include "block_factor.h"
-#include "graphslam/core/error.h"
-#include "graphslam/core/linear_system.h"
+#include "graphslam/optimizer/linear_system.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::incremental {
 

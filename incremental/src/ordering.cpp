@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 #ifdef GRAPHSLAM_INCREMENTAL_HAVE_CAMD
 #include <camd.h>

@@ -10,8 +10,8 @@
 #include <map>
 #include <unordered_map>
 
-#include "graphslam/core/error.h"
-#include "graphslam/incremental/graph_copy.h"
+#include "graphslam/core/graph_copy.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::incremental {
 

@@ -10,7 +10,7 @@
 #include <unordered_set>
 #include <utility>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::outliers {
 

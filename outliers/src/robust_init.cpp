@@ -5,8 +5,8 @@
 #include <chrono>
 #include <unordered_map>
 
-#include "graphslam/core/error.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/global_se2.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::outliers {
 

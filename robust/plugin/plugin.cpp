@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Run-time plugin registering the robust kernels of graphslam_robust.
+// Run-time plugin registering the robust kernels of graphslam_robust (nothing when the
+// program has the module already).
 #include "graphslam/core/plugin.h"
 
 #include "graphslam/robust/register.h"
 
-extern "C" GRAPHSLAM_PLUGIN_EXPORT void graphslam_plugin_register(
-    graphslam::TypeRegistry& types, graphslam::SolverRegistry& /*solvers*/) {
-  graphslam::robust::registerKernels(types);
+GRAPHSLAM_PLUGIN_ENTRY(host) {
+  if (!host.claimModule("robust")) return;
+  graphslam::robust::registerKernels(*host.kernels);
 }

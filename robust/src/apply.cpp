@@ -5,20 +5,20 @@
 #include <cstdlib>
 #include <typeinfo>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::robust {
 
 namespace {
 
-std::string knownKernels(const TypeRegistry& registry) {
+std::string knownKernels(const KernelRegistry& registry) {
   std::string names;
-  for (const auto* k : registry.kernels()) names += (names.empty() ? "" : ", ") + k->name;
+  for (const auto* k : registry.entries()) names += (names.empty() ? "" : ", ") + k->name;
   return names.empty() ? std::string("none is registered") : "known: " + names;
 }
 
 [[noreturn]] void badSpec(const std::string& spec, const std::string& why,
-                          const TypeRegistry& registry) {
+                          const KernelRegistry& registry) {
   throw RegistryError("robust kernel '" + spec + "': " + why +
                       " (expected NAME or NAME:WIDTH with a positive WIDTH; " +
                       knownKernels(registry) + ")");
@@ -26,12 +26,12 @@ std::string knownKernels(const TypeRegistry& registry) {
 
 }  // namespace
 
-KernelSpec parseKernelSpec(const std::string& spec, const TypeRegistry& registry) {
+KernelSpec parseKernelSpec(const std::string& spec, const KernelRegistry& registry) {
   const std::size_t colon = spec.find(':');
   KernelSpec out;
   out.name = spec.substr(0, colon);
   if (out.name.empty()) badSpec(spec, "no kernel name", registry);
-  if (!registry.findKernel(out.name)) badSpec(spec, "unknown kernel '" + out.name + "'", registry);
+  if (!registry.find(out.name)) badSpec(spec, "unknown kernel '" + out.name + "'", registry);
   if (colon == std::string::npos) return out;
   const std::string text = spec.substr(colon + 1);
   if (text.empty()) badSpec(spec, "no width after ':'", registry);
@@ -48,8 +48,8 @@ KernelSpec parseKernelSpec(const std::string& spec, const TypeRegistry& registry
   return out;
 }
 
-std::shared_ptr<RobustKernel> createKernel(const KernelSpec& spec, const TypeRegistry& registry) {
-  return registry.createKernel(spec.name, spec.width);
+std::shared_ptr<RobustKernel> createKernel(const KernelSpec& spec, const KernelRegistry& registry) {
+  return registry.create(spec.name, spec.width);
 }
 
 EdgeSelector parseEdgeSelection(const std::string& text, const TypeRegistry& registry) {
@@ -104,11 +104,12 @@ std::size_t applyRobustKernel(Graph& graph, const std::shared_ptr<const RobustKe
   return count;
 }
 
-std::size_t applyRobustKernel(Graph& graph, const TypeRegistry& registry,
-                              const std::string& kernel_spec, const std::string& selection) {
-  const KernelSpec spec = parseKernelSpec(kernel_spec, registry);
-  const EdgeSelector selector = parseEdgeSelection(selection, registry);
-  return applyRobustKernel(graph, createKernel(spec, registry), selector, registry);
+std::size_t applyRobustKernel(Graph& graph, const TypeRegistry& types,
+                              const KernelRegistry& kernels, const std::string& kernel_spec,
+                              const std::string& selection) {
+  const KernelSpec spec = parseKernelSpec(kernel_spec, kernels);
+  const EdgeSelector selector = parseEdgeSelection(selection, types);
+  return applyRobustKernel(graph, createKernel(spec, kernels), selector, types);
 }
 
 }  // namespace graphslam::robust

@@ -10,14 +10,14 @@ namespace graphslam::robust {
 namespace {
 
 template <typename K>
-void add(TypeRegistry& registry, const char* name, double default_width) {
+void add(KernelRegistry& registry, const char* name, double default_width) {
   registry.registerKernel(name, default_width,
                           [](double width) { return std::make_shared<K>(width); });
 }
 
 }  // namespace
 
-void registerKernels(TypeRegistry& registry) {
+void registerKernels(KernelRegistry& registry) {
   add<HuberKernel>(registry, "huber", kDefaultWidth);
   add<PseudoHuberKernel>(registry, "pseudo-huber", kDefaultWidth);
   add<CauchyKernel>(registry, "cauchy", kDefaultWidth);

@@ -7,7 +7,7 @@
 #include <random>
 #include <unordered_map>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
 #include "graphslam/types_slam2d/vertex_se2.h"

@@ -6,7 +6,7 @@
 #include <map>
 #include <random>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam3d/edges.h"
 #include "graphslam/types_slam3d/parameter_se3_offset.h"
 

@@ -9,7 +9,7 @@
 #include <set>
 #include <utility>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 
@@ -81,10 +81,11 @@ WrongLoopClosures addWrongLoopClosures(Graph& graph, const WrongLoopClosureOptio
     }
   }
   if (poses.size() < 3 || se2.empty()) {
-    throw Error("adding wrong loop closures needs a 2D pose graph (at least 3 VERTEX_SE2 and an "
-                "EDGE_SE2); this one has " +
-                std::to_string(poses.size()) + " VERTEX_SE2 and " + std::to_string(se2.size()) +
-                " EDGE_SE2");
+    throw Error(
+        "adding wrong loop closures needs a 2D pose graph (at least 3 VERTEX_SE2 and an "
+        "EDGE_SE2); this one has " +
+        std::to_string(poses.size()) + " VERTEX_SE2 and " + std::to_string(se2.size()) +
+        " EDGE_SE2");
   }
   WrongLoopClosures out;
   out.loop_closures = closures.size();

@@ -18,7 +18,7 @@
 #include "block_kernels.h"
 #include "common.h"
 #include "factories.h"
-#include "graphslam/core/large_array.h"
+#include "graphslam/support/large_array.h"
 #include "ordering.h"
 
 namespace graphslam::solvers {
@@ -461,8 +461,8 @@ class BlockCholesky final : public detail::OrderedSolver {
   std::vector<AEntry> a_;
   std::vector<int> row_ptr_, row_idx_, entry_;
   std::vector<int> col_ptr_, col_row_;
-  LargeVector<Block> values_;
-  LargeVector<Work> work_;
+  support::LargeVector<Block> values_;
+  support::LargeVector<Work> work_;
   std::vector<PVec, Eigen::aligned_allocator<PVec>> y_;
   CholeskyPrediction cost_;      // L's size and work (analysis)
   int tail_ = 0;                 // first block column of the dense tail (nb_: none)

@@ -11,10 +11,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "graphslam/core/internal/fixed_size.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/ordering.h"
+#include "graphslam/support/fixed_size.h"
 
 namespace graphslam::solvers::detail {
 
@@ -22,7 +22,7 @@ namespace graphslam::solvers::detail {
 /// block unrolled), D = 0 for any other d (the callee reads d at run time).
 template <typename F>
 decltype(auto) withFixedSize(int d, F&& f) {
-  return graphslam::detail::withFixedSize<1, 2, 3>(d, f);
+  return graphslam::support::withFixedSize<1, 2, 3>(d, f);
 }
 
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;

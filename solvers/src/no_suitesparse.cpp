@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Built when graphslam is configured without SuiteSparse.
-#include "graphslam/core/error.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::solvers {
 

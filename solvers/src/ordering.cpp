@@ -10,7 +10,7 @@
 #include <numeric>
 
 #include "common.h"
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
 #include <amd.h>
@@ -363,8 +363,7 @@ bool cached(const OrderingCache* cache, const BlockGraph& g) {
 }
 
 /// The AMD or METIS block ordering of `g`, looked up in `cache` and kept there.
-std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g,
-                                     OrderingCache& cache) {
+std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g, OrderingCache& cache) {
   OrderingCache::Impl& impl = cache.impl();
   OrderingCache::Impl::Entry& entry = ordering == Ordering::kMetis ? impl.metis : impl.amd;
   const std::uint64_t key = fingerprint(g);
@@ -387,14 +386,14 @@ std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const
                               OrderingCache* cache) {
   const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
   if ((ordering == Ordering::kMetis || amd) && cached(cache, g)) {
-    return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g, *cache),
-                  s.block_starts, s.n);
+    return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g, *cache), s.block_starts,
+                  s.n);
   }
   return expand(orderBlockGraph(ordering, g), s.block_starts, s.n);
 }
 
-std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g,
-                                 double* block_work, OrderingCache* cache) {
+std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g, double* block_work,
+                                 OrderingCache* cache) {
   if (cached(cache, g)) {
     if (block_work) *block_work = -1.0;
     return orderColumns(Ordering::kAmd, s, g, cache);

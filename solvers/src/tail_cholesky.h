@@ -27,7 +27,7 @@
 
 #ifdef GRAPHSLAM_HAVE_LAPACK
 
-#include "graphslam/core/internal/blas.h"
+#include "graphslam/support/blas.h"
 
 namespace graphslam::solvers::detail {
 

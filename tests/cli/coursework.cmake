@@ -27,7 +27,7 @@ step("observation model linear.*chi2: +[0-9.e+]+ -> 7802.57[0-9]*.*poses +200 +r
 step("1100 vertices, 53566 edges.*EDGE_POINTXY +53565\n +EDGE_PRIOR_XY +1" ${TOOL} info ${seeds}/2d_linear.npz)
 # convert writes the homework's graph with its initial guess: optimising that .g2o from its
 # estimates is the same run as optimising the .npz.
-step("wrote nl0.g2o: CMU 16-833 homework file, bearing-range observations: 100 poses"
+step("read .*2d_nonlinear.npz: CMU 16-833 homework file, bearing-range observations: 100 poses.*wrote nl0.g2o"
      ${TOOL} convert ${seeds}/2d_nonlinear.npz nl0.g2o)
 step("chi2: +8623.3224[0-9]* -> 1555.1896[0-9]*\niterations: +10"
      ${TOOL} optimize nl0.g2o --init none --algorithm gn -i 10 --function-tolerance 0 --step-tolerance 0)

@@ -40,8 +40,8 @@ if(MODE STREQUAL "small")
   if(EXISTS "${WORK}/bad.g2o")
     message(FATAL_ERROR "bad.g2o written although the input is bad")
   endif()
-  run(2 "a TORO file converts to a .g2o file" "${TOOL}" convert "${DATA}/square.graph" "${WORK}/x.tum")
-  run(2 "--from must be auto, toro, isam or matrix, not 'x'"
+  step("wrote .*x.tum: 4 poses" "${TOOL}" convert "${DATA}/square.graph" "${WORK}/x.tum")
+  run(2 "--from must be auto, g2o, toro, isam, npz, matrix, not 'x'"
       "${TOOL}" convert "${DATA}/square.graph" "${WORK}/x.g2o" --from x)
   return()
 endif()

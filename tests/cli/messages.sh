@@ -108,7 +108,7 @@ printf '0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n' > two.tum
 check 2 "--plot: two.tum is a file, not a folder" "$t" eval ape two.tum two.tum --plot two.tum
 
 # A trajectory given to convert is named as one, not read as a matrix.
-check 2 "two.tum is named as a trajectory: convert reads .g2o, TORO and iSAM graphs" "$t" convert two.tum two.g2o
+check 2 "two.tum is named as a tum trajectory, not a graph" "$t" convert two.tum two.g2o
 
 # One file under two spellings is one file; a second output's missing folder leaves no
 # first output (simulate's --truth, add-outliers' --list).

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "graphslam/core/io_g2o.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/io/g2o.h"
 #include "test_util.h"
 
 namespace graphslam::test {

@@ -2,9 +2,9 @@
 // Builds a unit square of four SE(2) poses from a rough guess, optimises it and prints the final
 // chi2: once with the types and solvers registered directly (registerTypes, registerSolvers),
 // once with registries filled from the installed plugins (the graph read from .g2o text).
-#include <graphslam/core/io_g2o.h>
-#include <graphslam/core/optimizer.h>
 #include <graphslam/core/plugin.h>
+#include <graphslam/io/g2o.h>
+#include <graphslam/optimizer/optimizer.h>
 #include <graphslam/solvers/register.h>
 #include <graphslam/types_slam2d/edge_se2.h>
 #include <graphslam/types_slam2d/register.h>
@@ -12,7 +12,9 @@
 
 #include <cstdio>
 #include <memory>
+#include <set>
 #include <sstream>
+#include <string>
 
 namespace {
 
@@ -26,9 +28,16 @@ int optimizeWithInstalledPlugins() {
   }
   // Declared first, destroyed last: the registries and graphs hold code of the plugins.
   std::vector<std::unique_ptr<Plugin>> plugins;
+  std::set<std::string> modules;
   TypeRegistry types;
   SolverRegistry solvers;
-  plugins = loadPlugins(files, types, solvers);
+  KernelRegistry kernels;
+  PluginHost host;
+  host.types = &types;
+  host.solvers = &solvers;
+  host.kernels = &kernels;
+  host.modules = &modules;
+  loadPlugins(files, host, plugins);
   std::istringstream text(
       "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1.1 0.1 1.5\nVERTEX_SE2 2 0.9 1.1 3.2\n"
       "VERTEX_SE2 3 -0.1 0.9 4.6\n"

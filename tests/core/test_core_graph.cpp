@@ -7,14 +7,13 @@
 #include <utility>
 #include <vector>
 
+#include "../common/point_edges.h"
 #include "../common/test_util.h"
-#include "core_test_graphs.h"
-#include "graphslam/core/error.h"
 #include "graphslam/core/fixed_edge.h"
 #include "graphslam/core/graph.h"
-#include "graphslam/core/linear_system.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
@@ -128,19 +127,4 @@ TEST(Core_Edge, MissingHooksAreReported) {
   auto& edge = g.addEdge(std::move(e));
   EXPECT_THROW_MSG(edge.computeError(), Error,
                    "edge type (anonymous namespace)::EdgeBroken overrides neither");
-}
-
-TEST(Core_Edge, MissingHooksAreReportedFromWorkerThreads) {
-  // An edge that throws in a worker thread reaches the caller as the same exception.
-  Graph g;
-  for (int i = 0; i < 3000; ++i) {
-    addPoint(g, i, {0, 0});
-    auto e = std::make_unique<EdgeBroken>();
-    e->setVertexIds({i});
-    g.addEdge(std::move(e));
-  }
-  LinearSystem system;
-  system.setThreads(3);
-  system.update(g);
-  EXPECT_THROW((void)system.computeChi2(g), Error);
 }

@@ -4,13 +4,13 @@
 #include <gtest/gtest.h>
 
 #include "../common/test_util.h"
-#include "graphslam/chordal/objective.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/core/optimizer.h"
-#include "graphslam/init/chordal3d.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/chordal_objective.h"
+#include "graphslam/init/chordal_se3.h"
+#include "graphslam/init/global_se2.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/logging.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"
 
@@ -42,8 +42,8 @@ TEST_P(Chordal_SeSync, ReachesTheCertifiedOptimumFromTheDefaultInitialisation) {
   ASSERT_TRUE(res.ok()) << res.diagnostics.at(0).str();
   init::initializeGlobal(res.graph);
   init::initializeChordal3d(res.graph);
-  setLogLevel(LogLevel::kError);
-  chordal::ChordalObjective objective(res.graph);
+  support::setLogLevel(support::LogLevel::kError);
+  init::ChordalObjective objective(res.graph);
   ASSERT_EQ(objective.skipped(), 0u);
   Optimizer optimizer(res.graph, solvers);
   const Summary s = optimizer.optimize();

@@ -9,16 +9,18 @@
 #include <cmath>
 
 #include "../common/test_util.h"
-#include "graphslam/homework/io_npz.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/eval/point_errors.h"
+#include "graphslam/io/coursework_npz.h"
+#include "graphslam/io/npz.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
-#include "graphslam/homework/coursework_npz.h"
+#include "graphslam/support/logging.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 
 using namespace graphslam;
 using namespace graphslam::types_slam2d;
-using namespace graphslam::homework;
+using namespace graphslam::io;
+using namespace graphslam::eval;
 
 namespace {
 
@@ -81,7 +83,7 @@ Summary optimize(CourseworkProblem& p, Algorithm algorithm, int iterations) {
   o.max_iterations = iterations;
   o.function_tolerance = 0;  // the homework runs a fixed number of iterations
   o.step_tolerance = 0;
-  setLogLevel(LogLevel::kError);
+  support::setLogLevel(support::LogLevel::kError);
   Optimizer optimizer(p.graph, solvers, o);
   return optimizer.optimize();
 }
@@ -90,7 +92,7 @@ Summary optimize(CourseworkProblem& p, Algorithm algorithm, int iterations) {
 /// arrays alone: rows prior, odometry, observations, each whitened by Sigma^-1/2.
 /// Returns A^T A and A^T b when `normal` is set, else A and b.
 void homeworkSystem(const std::string& path, bool normal, Eigen::MatrixXd& m, Eigen::VectorXd& v) {
-  const homework::NpzArchive npz(path);
+  const io::NpzArchive npz(path);
   const Eigen::MatrixXd odom = npz.read("odom").matrix();
   const Eigen::MatrixXd obs = npz.read("observations").matrix();
   const Eigen::MatrixXd s_odom = npz.read("sigma_odom").matrix();

@@ -9,13 +9,13 @@
 
 #include "../common/hessian_reference.h"
 #include "../common/test_util.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/logging.h"
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
-#include "graphslam/init/chordal3d.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/chordal_se3.h"
+#include "graphslam/init/global_se2.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/logging.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"
 
@@ -69,7 +69,7 @@ TEST_P(Datasets_Regression, ReachesBestKnownChi2) {
   ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
   auto& loaded = data.loaded;
   const SolverRegistry& solvers = data.solvers;
-  setLogLevel(LogLevel::kError);
+  support::setLogLevel(support::LogLevel::kError);
   if (c.global_init) {
     const auto report = init::initializeGlobal(loaded.graph);
     const auto report3d = init::initializeChordal3d(loaded.graph);
@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(Public, Datasets_Regression, ::testing::ValuesIn(cases(
 /// (the tool's default start), into `summary`.
 void firstIteration(Dataset& data, Optimizer::Options options, Summary& summary) {
   ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
-  setLogLevel(LogLevel::kError);
+  support::setLogLevel(support::LogLevel::kError);
   const auto report = init::initializeGlobal(data.loaded.graph);
   ASSERT_TRUE(report.message.empty()) << report.message;
   options.max_iterations = 1;
@@ -215,7 +215,7 @@ TEST(Datasets_FromFile, VictoriaParkDampingDoesNotUnderflow) {
   Dataset data("victoria_park.g2o");
   if (!data.present()) GTEST_SKIP() << data.missing();
   ASSERT_TRUE(data.loaded.ok()) << data.loaded.diagnostics.at(0).str();
-  setLogLevel(LogLevel::kError);
+  support::setLogLevel(support::LogLevel::kError);
   Optimizer::Options options;
   options.max_iterations = 300;
   Optimizer optimizer(data.loaded.graph, data.solvers, options);
@@ -243,7 +243,7 @@ TEST_P(Datasets_Marginals, AllBlocksMatchIndependentSolves) {
   auto& loaded = data.loaded;
   const SolverRegistry& solvers = data.solvers;
   Graph& g = loaded.graph;
-  setLogLevel(LogLevel::kError);
+  support::setLogLevel(support::LogLevel::kError);
   ASSERT_TRUE(init::initializeGlobal(g).message.empty());
   Optimizer optimizer(g, solvers);
   ASSERT_TRUE(optimizer.optimize().succeeded());

@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "../common/test_util.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/eval/trajectory.h"
 #include "graphslam/drivebot/scenario.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/io/trajectory.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
-using namespace graphslam::eval;
+using namespace graphslam::io;
 namespace fs = std::filesystem;
 
 namespace {
@@ -88,8 +88,7 @@ TEST(Datasets_LineCounts, G2oReaderReadsEveryLineOfEveryFile) {
       const auto r = io::loadG2o(file.string(), types, options);
       const std::string what = file.filename().string() + " threads " + std::to_string(threads);
       EXPECT_EQ(r.lines, countLines(text)) << what;
-      EXPECT_EQ(r.graph.numVertices() + r.graph.numEdges() + data.fix + r.skipped_lines,
-                data.total)
+      EXPECT_EQ(r.graph.numVertices() + r.graph.numEdges() + data.fix + r.skipped_lines, data.total)
           << what;
     }
   }

@@ -8,9 +8,9 @@
 #include <fstream>
 
 #include "../common/test_util.h"
-#include "graphslam/core/error.h"
 #include "graphslam/drivebot/scenario.h"
 #include "graphslam/drivebot/simulator.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/se2.h"
 
 using namespace graphslam;
@@ -345,5 +345,21 @@ TEST(DriveBot_Scenario, MalformedFilesNameFileAndLine) {
   EXPECT_THROW((void)loadScenario(dir), InputError);
   std::filesystem::remove(dir + "/x0.txt");
   EXPECT_THROW((void)loadScenario(dir), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Drivebot_Scenario, FilesReadTheLastRowAndReportATruncatedOne) {
+  const auto dir = std::filesystem::temp_directory_path() / "graphslam_last_line_scenario";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "x0.txt") << "0 0 0";
+  std::ofstream(dir / "wp.txt") << "70 0\n70 70";
+  std::ofstream(dir / "lm.txt") << "1 2\n3 4\n5 6 0";
+  const auto s = drivebot::loadScenario(dir.string());
+  EXPECT_EQ(s.waypoints.size(), 2u);
+  ASSERT_EQ(s.landmarks.size(), 3u);
+  EXPECT_EQ(s.landmarks[2].x(), 5.0);
+  std::ofstream(dir / "lm.txt", std::ios::trunc) << "1 2\n3 4\n5";
+  EXPECT_THROW_MSG(static_cast<void>(drivebot::loadScenario(dir.string())), InputError,
+                   "lm.txt:3: expected 2 or 3 numbers, found 1");
   std::filesystem::remove_all(dir);
 }

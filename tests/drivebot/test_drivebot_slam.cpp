@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "graphslam/core/error.h"
 #include "graphslam/drivebot/run.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_drivebot/edge_landmark_range_bearing.h"
 #include "graphslam/types_drivebot/edge_vehicle_kinematics.h"
 #include "graphslam/types_drivebot/vertex_landmark.h"

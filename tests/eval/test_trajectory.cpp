@@ -15,11 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "graphslam/core/error.h"
-#include "graphslam/eval/trajectory.h"
 #include "graphslam/eval/trajectory_metrics.h"
+#include "graphslam/io/trajectory.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::eval {
+using namespace graphslam::io;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

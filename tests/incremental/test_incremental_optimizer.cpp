@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/core/graph_copy.h"
 #include "graphslam/core/type_registry.h"
-#include "graphslam/incremental/graph_copy.h"
 #include "graphslam/incremental/incremental_optimizer.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/edge_bearing_se2_xy.h"
 #include "graphslam/types_slam2d/edge_se2.h"

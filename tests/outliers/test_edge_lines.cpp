@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "graphslam/core/io_g2o.h"
+#include "graphslam/io/g2o.h"
 #include "graphslam/types_slam2d/register.h"
 
 using namespace graphslam;
@@ -20,8 +20,7 @@ TEST(Outliers_EdgeLines, EveryEdgeKnowsItsFileLine) {
   for (int k = 2; k < 40; ++k) {
     text += "VERTEX_SE2 " + std::to_string(k) + " " + std::to_string(k) + " 0 0\n";
     ++line;
-    text += "EDGE_SE2 " + std::to_string(k - 1) + " " + std::to_string(k) +
-            " 1 0 0 1 0 0 1 0 1\n";
+    text += "EDGE_SE2 " + std::to_string(k - 1) + " " + std::to_string(k) + " 1 0 0 1 0 0 1 0 1\n";
     want.push_back(static_cast<std::size_t>(++line));
     if (k % 5 == 0) {
       text += "# between\nFIX 0\n";

@@ -8,12 +8,12 @@
 #include <utility>
 
 #include "corrupted_graph.h"
-#include "graphslam/core/error.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/global_se2.h"
 #include "graphslam/outliers/gnc.h"
 #include "graphslam/simulation/simulator.h"
 #include "graphslam/simulation/wrong_loop_closures.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 
@@ -111,10 +111,11 @@ TEST(Outliers_Gnc, RejectsExactlyTheWrongLoopClosures) {
     double worst = 0.0;
     for (int i = 0; i < 400; ++i) {
       const auto* v = static_cast<const types_slam2d::VertexSE2*>(g.vertex(i));
-      const Eigen::Vector2d d = (c.sim.true_poses[0].inverse() * c.sim.true_poses[i]).translation() -
-                     (static_cast<const types_slam2d::VertexSE2*>(g.vertex(0))->estimate().inverse() *
-                      v->estimate())
-                         .translation();
+      const Eigen::Vector2d d =
+          (c.sim.true_poses[0].inverse() * c.sim.true_poses[i]).translation() -
+          (static_cast<const types_slam2d::VertexSE2*>(g.vertex(0))->estimate().inverse() *
+           v->estimate())
+              .translation();
       worst = std::max(worst, d.norm());
     }
     EXPECT_LT(worst, 1.0);

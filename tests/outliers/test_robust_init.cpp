@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "corrupted_graph.h"
-#include "graphslam/init/initialization.h"
+#include "graphslam/init/global_se2.h"
 #include "graphslam/outliers/robust_init.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
@@ -47,12 +47,12 @@ TEST(Outliers_RobustInit, WeightedInitialisationWithZeroWeightsIsTheFilteredOne)
   Corrupted a = makeCorrupted(300, 0.2);
   Corrupted b = makeCorrupted(300, 0.2);
   (void)init::initializeGlobal(a.sim.graph, nullptr, isOdometryOrUnary);
-  (void)init::initializeGlobalWeighted(b.sim.graph, nullptr, [](const Edge& e) {
-    return isOdometryOrUnary(e) ? 1.0 : 0.0;
-  });
+  (void)init::initializeGlobalWeighted(
+      b.sim.graph, nullptr, [](const Edge& e) { return isOdometryOrUnary(e) ? 1.0 : 0.0; });
   for (const auto& [id, v] : a.sim.graph.vertices()) {
     const auto& pa = static_cast<const types_slam2d::VertexSE2&>(*v).estimate();
-    const auto& pb = static_cast<const types_slam2d::VertexSE2*>(b.sim.graph.vertex(id))->estimate();
+    const auto& pb =
+        static_cast<const types_slam2d::VertexSE2*>(b.sim.graph.vertex(id))->estimate();
     EXPECT_EQ(pa.translation(), pb.translation()) << id;
     EXPECT_EQ(pa.angle(), pb.angle()) << id;
   }
@@ -97,8 +97,9 @@ TEST(Outliers_RobustInit, GlobalStartRejectsExactlyTheWrongClosuresAndChoosesThe
     EXPECT_EQ(rejectedPairs(r), c.wrong) << verify;
     EXPECT_EQ(report.cost_by_gnc >= 0.0, verify);
     if (verify) {
-      EXPECT_EQ(report.chose_gnc, report.cost_by_gnc < report.cost_by_initialization -
-                                      o.verify_margin * chi2Threshold(3, o.inlier_probability));
+      EXPECT_EQ(report.chose_gnc,
+                report.cost_by_gnc < report.cost_by_initialization -
+                                         o.verify_margin * chi2Threshold(3, o.inlier_probability));
     }
     // The estimate left in the graph is the chosen answer's: its TLS cost.
     const double chosen = report.chose_gnc ? report.cost_by_gnc : report.cost_by_initialization;

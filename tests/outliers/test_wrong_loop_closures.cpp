@@ -5,9 +5,9 @@
 #include <cmath>
 #include <set>
 
-#include "graphslam/core/error.h"
 #include "graphslam/simulation/simulator.h"
 #include "graphslam/simulation/wrong_loop_closures.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 
 using namespace graphslam;

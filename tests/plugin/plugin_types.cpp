@@ -26,8 +26,7 @@ class EdgeSE2Range final : public graphslam::BaseBinaryEdge<1, double, VertexSE2
 
 }  // namespace
 
-extern "C" GRAPHSLAM_PLUGIN_EXPORT void graphslam_plugin_register(
-    graphslam::TypeRegistry& types, graphslam::SolverRegistry& /*solvers*/) {
-  types.registerEdge<EdgeSE2Range>("EDGE_SE2_RANGE");
-  graphslam::test::registerRangeBearingEdges(types);
+GRAPHSLAM_PLUGIN_ENTRY(host) {
+  host.types->registerEdge<EdgeSE2Range>("EDGE_SE2_RANGE");
+  graphslam::test::registerRangeBearingEdges(*host.types);
 }

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "graphslam/core/error.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/robust/apply.h"
 #include "graphslam/robust/kernels.h"
 #include "graphslam/robust/register.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
@@ -30,11 +30,17 @@ const std::vector<std::string> kKernelNames = {
     "cauchy",       "dcs",       "fair", "geman-mcclure", "huber",
     "pseudo-huber", "saturated", "tls",  "tukey",         "welsch"};
 
-TypeRegistry kernelRegistry() {
-  TypeRegistry r;
-  r.setOrigin("robust");
-  robust::registerKernels(r);
-  types_slam2d::registerTypes(r);
+/// The kernels (registered as the robust module) and the slam2d types.
+struct Registries {
+  TypeRegistry types;
+  KernelRegistry kernels;
+};
+
+Registries kernelRegistry() {
+  Registries r;
+  r.kernels.setOrigin("robust");
+  robust::registerKernels(r.kernels);
+  types_slam2d::registerTypes(r.types);
   return r;
 }
 
@@ -62,12 +68,12 @@ std::vector<double> samplePoints(double knee) {
 
 class RobustKernels : public ::testing::TestWithParam<std::string> {
  protected:
-  TypeRegistry registry_ = kernelRegistry();
+  KernelRegistry registry_ = kernelRegistry().kernels;
 };
 
 TEST_P(RobustKernels, DerivativesMatchCentralDifferences) {
   for (double width : {0.5, 1.0, robust::kDefaultWidth, 7.0}) {
-    const auto kernel = registry_.createKernel(GetParam(), width);
+    const auto kernel = registry_.create(GetParam(), width);
     const double knee = kink(GetParam(), width);
     for (double s : samplePoints(knee)) {
       const double h = 1e-5 * s;
@@ -83,7 +89,7 @@ TEST_P(RobustKernels, DerivativesMatchCentralDifferences) {
 
 TEST_P(RobustKernels, ZeroAtZeroUnitSlopeMonotoneWeightInUnitInterval) {
   for (double width : {0.5, 1.0, robust::kDefaultWidth}) {
-    const auto kernel = registry_.createKernel(GetParam(), width);
+    const auto kernel = registry_.create(GetParam(), width);
     const Rho zero = eval(*kernel, 0.0);
     EXPECT_EQ(zero.v[0], 0.0);
     EXPECT_DOUBLE_EQ(zero.v[1], 1.0);
@@ -105,7 +111,7 @@ TEST_P(RobustKernels, ZeroAtZeroUnitSlopeMonotoneWeightInUnitInterval) {
 
 TEST_P(RobustKernels, ContinuousAtTheKink) {
   const double width = 1.7;
-  const auto kernel = registry_.createKernel(GetParam(), width);
+  const auto kernel = registry_.create(GetParam(), width);
   const double knee = kink(GetParam(), width);
   const Rho below = eval(*kernel, knee * (1 - 1e-10)), above = eval(*kernel, knee * (1 + 1e-10));
   EXPECT_NEAR(below.v[0], above.v[0], 1e-8 * knee);
@@ -145,32 +151,33 @@ TEST(Robust_Kernels, KnownValues) {
 }
 
 TEST(Robust_Registry, RegistersTheTenKernelsWithDocumentedWidths) {
-  const TypeRegistry r = kernelRegistry();
+  const Registries r = kernelRegistry();
   std::vector<std::string> names;
-  for (const auto* k : r.kernels()) {
+  for (const auto* k : r.kernels.entries()) {
     names.push_back(k->name);
     EXPECT_EQ(k->origin, "robust");
     EXPECT_EQ(k->default_width, k->name == "dcs" ? 1.0 : robust::kDefaultWidth) << k->name;
   }
   EXPECT_EQ(names, kKernelNames);
   EXPECT_NEAR(robust::kDefaultWidth * robust::kDefaultWidth, 7.814727903251178, 1e-12);
-  TypeRegistry again = kernelRegistry();
-  EXPECT_THROW(robust::registerKernels(again), RegistryError);
+  Registries again = kernelRegistry();
+  EXPECT_THROW(robust::registerKernels(again.kernels), RegistryError);
 }
 
 TEST(Robust_Spec, ParsesNameAndWidth) {
-  const TypeRegistry r = kernelRegistry();
-  const auto a = robust::parseKernelSpec("cauchy:0.5", r);
+  const Registries r = kernelRegistry();
+  const auto a = robust::parseKernelSpec("cauchy:0.5", r.kernels);
   EXPECT_EQ(a.name, "cauchy");
   EXPECT_EQ(a.width, 0.5);
-  const auto b = robust::parseKernelSpec("huber", r);
+  const auto b = robust::parseKernelSpec("huber", r.kernels);
   EXPECT_TRUE(std::isnan(b.width));
-  EXPECT_EQ(robust::createKernel(b, r)->width(), robust::kDefaultWidth);
-  EXPECT_EQ(robust::createKernel(robust::parseKernelSpec("dcs:1e1", r), r)->width(), 10.0);
+  EXPECT_EQ(robust::createKernel(b, r.kernels)->width(), robust::kDefaultWidth);
+  EXPECT_EQ(robust::createKernel(robust::parseKernelSpec("dcs:1e1", r.kernels), r.kernels)->width(),
+            10.0);
 }
 
 TEST(Robust_Spec, MalformedSpecsNameTheProblemAndTheKernels) {
-  const TypeRegistry r = kernelRegistry();
+  const Registries r = kernelRegistry();
   const std::pair<const char*, const char*> cases[] = {
       {"huber:", "no width after ':'"},
       {"huber:abc", "width 'abc' is not a number"},
@@ -184,7 +191,7 @@ TEST(Robust_Spec, MalformedSpecsNameTheProblemAndTheKernels) {
       {":2", "no kernel name"}};
   for (const auto& [spec, why] : cases) {
     try {
-      (void)robust::parseKernelSpec(spec, r);
+      (void)robust::parseKernelSpec(spec, r.kernels);
       ADD_FAILURE() << "accepted '" << spec << "'";
     } catch (const RegistryError& e) {
       const std::string msg = e.what();
@@ -227,7 +234,7 @@ void addSE2(Graph& g, int i, int j, const SE2& z) {
 }
 
 TEST(Robust_Selection, LoopClosuresTagsAndAll) {
-  const TypeRegistry r = kernelRegistry();
+  const Registries r = kernelRegistry();
   Graph g = line(5);
   addSE2(g, 0, 3, SE2(3, 0, 0));   // loop closure
   addSE2(g, 4, 2, SE2(-2, 0, 0));  // loop closure, ids in either order
@@ -251,7 +258,7 @@ TEST(Robust_Selection, LoopClosuresTagsAndAll) {
   EXPECT_EQ(loops,
             (std::vector<bool>{false, false, false, false, true, true, false, false, false}));
 
-  EXPECT_EQ(robust::applyRobustKernel(g, r, "cauchy:2", "loop-closures"), 2u);
+  EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, "cauchy:2", "loop-closures"), 2u);
   for (std::size_t k = 0; k < g.edges().size(); ++k) {
     const RobustKernel* kernel = g.edges()[k]->robustKernel();
     EXPECT_EQ(kernel != nullptr, loops[k]) << "edge " << k;
@@ -259,13 +266,14 @@ TEST(Robust_Selection, LoopClosuresTagsAndAll) {
       EXPECT_EQ(kernel->width(), 2.0);
     }
   }
-  EXPECT_EQ(robust::applyRobustKernel(g, r, "huber", "EDGE_SE2_XY"), 2u);
-  EXPECT_EQ(robust::applyRobustKernel(g, r, "huber", "EDGE_PRIOR_SE2"), 1u);
-  EXPECT_EQ(robust::applyRobustKernel(g, r, "tukey:3", "all"), g.edges().size());
-  EXPECT_EQ(robust::applyRobustKernel(g, r, "tukey:3", "EDGE_PRIOR_XY"), 0u);  // none in g
+  EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, "huber", "EDGE_SE2_XY"), 2u);
+  EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, "huber", "EDGE_PRIOR_SE2"), 1u);
+  EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, "tukey:3", "all"), g.edges().size());
+  EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, "tukey:3", "EDGE_PRIOR_XY"),
+            0u);  // none in g
   for (const char* bad : {"EDGE_NOPE", "VERTEX_SE2", "", "loops"}) {
     try {
-      (void)robust::applyRobustKernel(g, r, "huber", bad);
+      (void)robust::applyRobustKernel(g, r.types, r.kernels, "huber", bad);
       ADD_FAILURE() << "accepted selection '" << bad << "'";
     } catch (const RegistryError& e) {
       const std::string msg = e.what();
@@ -300,7 +308,7 @@ Eigen::Vector2d position(const Graph& g, VertexId id) {
 }
 
 TEST(Robust_Optimization, KernelOnTheWrongLoopClosureKeepsThePosesWhereTheyAre) {
-  const TypeRegistry r = kernelRegistry();
+  const Registries r = kernelRegistry();
   Graph plain = lineWithOutlier();
   const Summary s0 = optimize(plain, "eigen-ldlt");
   ASSERT_TRUE(s0.succeeded()) << s0.message;
@@ -321,7 +329,7 @@ TEST(Robust_Optimization, KernelOnTheWrongLoopClosureKeepsThePosesWhereTheyAre) 
   for (const auto& [spec, want_off, tolerance] : cases) {
     SCOPED_TRACE(spec);
     Graph g = lineWithOutlier();
-    EXPECT_EQ(robust::applyRobustKernel(g, r, spec, "loop-closures"), 2u);
+    EXPECT_EQ(robust::applyRobustKernel(g, r.types, r.kernels, spec, "loop-closures"), 2u);
     const Summary s = optimize(g, "eigen-ldlt");
     ASSERT_TRUE(s.succeeded()) << s.message;
     EXPECT_EQ(s.robust_edges, 2u);
@@ -343,10 +351,10 @@ TEST(Robust_Optimization, KernelOnTheWrongLoopClosureKeepsThePosesWhereTheyAre) 
 }
 
 TEST(Robust_Optimization, JacobianFormSolverAgreesWithNormalEquations) {
-  const TypeRegistry r = kernelRegistry();
+  const Registries r = kernelRegistry();
   Graph h_form = lineWithOutlier(), j_form = lineWithOutlier();
-  (void)robust::applyRobustKernel(h_form, r, "cauchy:1", "all");
-  (void)robust::applyRobustKernel(j_form, r, "cauchy:1", "all");
+  (void)robust::applyRobustKernel(h_form, r.types, r.kernels, "cauchy:1", "all");
+  (void)robust::applyRobustKernel(j_form, r.types, r.kernels, "cauchy:1", "all");
   const Summary sh = optimize(h_form, "eigen-ldlt");
   const Summary sj = optimize(j_form, "eigen-qr");
   ASSERT_TRUE(sh.succeeded()) << sh.message;

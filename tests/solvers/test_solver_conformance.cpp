@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "graphslam/core/error.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
 #include "solver_test_systems.h"
 
 using namespace graphslam;

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "edge_factories.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam2d/register.h"
 

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "../common/edge_type_checks.h"
-#include "graphslam/core/io_g2o.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/io/g2o.h"
+#include "graphslam/optimizer/optimizer.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/types_slam3d/edges.h"
 #include "graphslam/types_slam3d/register.h"

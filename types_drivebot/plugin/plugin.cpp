@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Run-time plugin registering the DriveBot vehicle, landmark and sensor types of
-// graphslam_types_drivebot.
+// Run-time plugin registering the types of graphslam_types_drivebot (nothing when the program has
+// the module already).
 #include "graphslam/core/plugin.h"
+
 #include "graphslam/types_drivebot/register.h"
 
-extern "C" GRAPHSLAM_PLUGIN_EXPORT void graphslam_plugin_register(
-    graphslam::TypeRegistry& types, graphslam::SolverRegistry& /*solvers*/) {
-  graphslam::types_drivebot::registerTypes(types);
+GRAPHSLAM_PLUGIN_ENTRY(host) {
+  if (!host.claimModule("types_drivebot")) return;
+  graphslam::types_drivebot::registerTypes(*host.types);
 }

@@ -3,7 +3,7 @@
 
 #include <cassert>
 
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
 #include "se2_jacobians.h"

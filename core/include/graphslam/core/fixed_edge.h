@@ -9,7 +9,7 @@
 
 #include "graphslam/core/data_traits.h"
 #include "graphslam/core/edge.h"
-#include "graphslam/core/error.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam {
 

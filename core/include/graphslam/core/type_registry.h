@@ -11,13 +11,12 @@
 
 #include "graphslam/core/edge.h"
 #include "graphslam/core/parameter.h"
-#include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/vertex.h"
 
 namespace graphslam {
 
-/// Maps `.g2o` tags to vertex, edge and parameter factories, and types back to their tags; and
-/// names to robust kernels. Filled by explicit registration functions
+/// Maps `.g2o` tags to vertex, edge and parameter factories, and types back to their tags.
+/// Filled by explicit registration functions
 /// (`types_slam2d::registerTypes(registry)`), never by static initialisers; each program or test
 /// owns its registry.
 class TypeRegistry {
@@ -80,29 +79,10 @@ class TypeRegistry {
   /// All entries sorted by tag.
   [[nodiscard]] std::vector<const Entry*> entries() const;
 
-  /// A robust kernel known by name (e.g. "huber"), with the width used when none is given.
-  struct KernelEntry {
-    std::string name;
-    double default_width = 1.0;
-    std::string origin;
-    RobustKernelFactory make;
-  };
-  /// Registers a kernel. Throws RegistryError on a duplicate or malformed name, a null
-  /// factory or a default width that is not positive and finite.
-  void registerKernel(const std::string& name, double default_width, RobustKernelFactory factory);
-  [[nodiscard]] const KernelEntry* findKernel(const std::string& name) const;
-  /// Kernel `name` of width `width` (NaN: its default width). Throws RegistryError for an
-  /// unknown name (listing the known ones) or a width that is not positive and finite.
-  [[nodiscard]] std::shared_ptr<RobustKernel> createKernel(const std::string& name,
-                                                           double width) const;
-  /// All kernels sorted by name.
-  [[nodiscard]] std::vector<const KernelEntry*> kernels() const;
-
  private:
   void addEntry(Entry entry, std::type_index type);
 
   std::map<std::string, Entry> entries_;
-  std::map<std::string, KernelEntry> kernels_;
   std::unordered_map<std::type_index, std::string> tags_;
   std::string origin_;
 };

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/drivebot/simulator.h"
 #include "graphslam/drivebot/slam_system.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::drivebot {
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "graphslam/io/format_registry.h"
+
 namespace graphslam::drivebot {
 
 struct Scenario {
@@ -37,5 +39,8 @@ struct Scenario {
 /// built-in scenario; otherwise DATA_DIR/NAME is read (e.g. q3-large-test). Throws
 /// InputError naming what was tried when nothing matches.
 [[nodiscard]] Scenario findScenario(const std::string& name, const std::string& data_dir);
+
+/// Registers the scenario folder as the format "scenario" of data Scenario (loadScenario).
+void registerFormats(io::FormatRegistry& formats);
 
 }  // namespace graphslam::drivebot

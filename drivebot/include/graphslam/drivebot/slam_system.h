@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/core/graph_checks.h"
 #include "graphslam/core/linear_solver.h"
-#include "graphslam/core/marginals.h"
-#include "graphslam/core/optimizer.h"
+#include "graphslam/diagnostics/graph_checks.h"
 #include "graphslam/drivebot/events.h"
 #include "graphslam/incremental/incremental_optimizer.h"
+#include "graphslam/optimizer/marginals.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::types_drivebot {
 class VertexVehicle;

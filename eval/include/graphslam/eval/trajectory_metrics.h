@@ -28,10 +28,12 @@
 #include <utility>
 #include <vector>
 
-#include "graphslam/core/error.h"
-#include "graphslam/eval/trajectory.h"
+#include "graphslam/io/trajectory.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam::eval {
+
+using io::Trajectory;
 
 /// What part of the pose error is measured (evo's PoseRelation).
 enum class PoseRelation {

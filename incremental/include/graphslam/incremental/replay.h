@@ -9,9 +9,9 @@
 
 #include "graphslam/core/graph.h"
 #include "graphslam/core/linear_solver.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/incremental/incremental_optimizer.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::incremental {
 

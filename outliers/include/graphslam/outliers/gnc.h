@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "graphslam/core/graph.h"
-#include "graphslam/core/optimizer.h"
 #include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/type_registry.h"
+#include "graphslam/optimizer/optimizer.h"
 
 namespace graphslam::outliers {
 

@@ -24,11 +24,11 @@ struct KernelSpec {
 /// Parses "NAME[:WIDTH]" against the kernels of `registry`. Throws RegistryError, naming the
 /// registered kernels, for an empty or unknown name, an empty width ("huber:"), a width that
 /// is not a number ("huber:abc") or not positive and finite ("huber:-1", "huber:inf").
-[[nodiscard]] KernelSpec parseKernelSpec(const std::string& spec, const TypeRegistry& registry);
+[[nodiscard]] KernelSpec parseKernelSpec(const std::string& spec, const KernelRegistry& registry);
 
 /// The kernel `spec` names, made by the registry (its default width when none is given).
 [[nodiscard]] std::shared_ptr<RobustKernel> createKernel(const KernelSpec& spec,
-                                                         const TypeRegistry& registry);
+                                                         const KernelRegistry& registry);
 
 /// Which edges get a kernel.
 enum class EdgeSelection {
@@ -64,7 +64,8 @@ std::size_t applyRobustKernel(Graph& graph, const std::shared_ptr<const RobustKe
 
 /// The same from text: `kernel_spec` is "NAME[:WIDTH]", `selection` "all", "loop-closures" or
 /// an edge tag. Throws RegistryError (a graphslam::Error) for malformed specs or selections.
-std::size_t applyRobustKernel(Graph& graph, const TypeRegistry& registry,
-                              const std::string& kernel_spec, const std::string& selection = "all");
+std::size_t applyRobustKernel(Graph& graph, const TypeRegistry& types,
+                              const KernelRegistry& kernels, const std::string& kernel_spec,
+                              const std::string& selection = "all");
 
 }  // namespace graphslam::robust

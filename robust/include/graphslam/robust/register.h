@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include "graphslam/core/type_registry.h"
+#include "graphslam/core/robust_kernel.h"
 
 namespace graphslam::robust {
 
@@ -18,6 +18,6 @@ constexpr double kDefaultDcsPhi = 1.0;
 
 /// Registers the robust kernels huber, pseudo-huber, cauchy, geman-mcclure, welsch, fair,
 /// tukey, saturated, tls (truncated least squares) and dcs (formulas in kernels.h).
-void registerKernels(TypeRegistry& registry);
+void registerKernels(KernelRegistry& registry);
 
 }  // namespace graphslam::robust
