@@ -190,10 +190,10 @@ class AutoSolver final : public LinearSolver {
     // Small systems are not predicted exactly here: name() asks the backend's analysis.
     plan_.chosen =
         detail::chooseOrdering(s, g, options_.auto_solver, ordering_cache_.get(), /*exact=*/false);
-    // Fixed-size blocks pay for vertices of 2 or 3 dimensions (2D SLAM); scalar systems
-    // (1x1 blocks) would only be padded.
+    // Fixed-size blocks pay for vertices of 2 to 6 dimensions (2D and 3D SLAM); scalar
+    // systems (1x1 blocks) would only be padded.
     const int block_size = maxBlockSize(s);
-    plan_.blocks = block_size == 2 || block_size == 3;
+    plan_.blocks = block_size >= 2 && block_size <= 6;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     const AutoSolverOptions& o = options_.auto_solver;
     const double threshold = plan_.blocks      ? o.block_supernodal_flops

@@ -490,10 +490,11 @@ class BlockCholeskyAny final : public detail::OrderedSolver {
     if (b <= 1) impl_ = std::make_unique<BlockCholesky<1>>(options_);
     if (b == 2) impl_ = std::make_unique<BlockCholesky<2>>(options_);
     if (b == 3) impl_ = std::make_unique<BlockCholesky<3>>(options_);
+    if (b > 3 && b <= 6) impl_ = std::make_unique<BlockCholesky<6>>(options_);
     if (!impl_) {
       return LinearSolverResult::failure(
           LinearSolverStatus::kFailure,
-          "block-llt handles vertices of dimension at most 3 (use eigen-ldlt)");
+          "block-llt handles vertices of dimension at most 6 (use eigen-ldlt)");
     }
     return impl_->analyzeOrdered(s, std::move(order), label);
   }

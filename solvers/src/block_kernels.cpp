@@ -449,6 +449,7 @@ EliminateFn eliminateKernel(int block_size) {
     if (block_size == 2) return eliminate2Avx2;
   }
 #endif
+  if (block_size == 6) return eliminatePortable<6>;
   if (block_size == 3) return eliminatePortable<3>;
   if (block_size == 2) return eliminatePortable<2>;
   return eliminatePortable<1>;
@@ -461,6 +462,7 @@ SolveKernels solveKernels(int block_size) {
     if (block_size == 2) return {forward2Avx2, backward2Avx2};
   }
 #endif
+  if (block_size == 6) return {forwardPortable<6>, backwardPortable<6>};
   if (block_size == 3) return {forwardPortable<3>, backwardPortable<3>};
   if (block_size == 2) return {forwardPortable<2>, backwardPortable<2>};
   return {forwardPortable<1>, backwardPortable<1>};

@@ -64,7 +64,8 @@ using EnvelopeGroupFn = int (*)(double* values, const std::ptrdiff_t* group_offs
 /// Whether the AVX2/FMA kernels are used (decided once per process).
 [[nodiscard]] bool useAvx2();
 
-/// The kernel for B = 1, 2 or 3, on the path of solvers::blockKernelPath() (register.h).
+/// The kernel for B = 1, 2, 3 or 6, on the path of solvers::blockKernelPath() (register.h;
+/// B = 6 is portable on every path).
 [[nodiscard]] EliminateFn eliminateKernel(int block_size);
 [[nodiscard]] SolveKernels solveKernels(int block_size);
 [[nodiscard]] PairProductFn pairProductKernel();

@@ -138,7 +138,7 @@ TEST(Solvers_BlockLlt, LongColumnsOfEveryBlockSizeAreExact) {
   // Solvers_PortableBlockKernels (GRAPHSLAM_SIMD=portable).
   SolverRegistry registry;
   solvers::registerSolvers(registry);
-  for (int d : {1, 2, 3}) {
+  for (int d : {1, 2, 3, 6}) {
     std::mt19937 rng(40 + d);
     const int nb = 120;
     const MixedSystem sys(std::vector<int>(nb, d), chainAndRandomPairs(nb, rng), rng);
@@ -146,6 +146,34 @@ TEST(Solvers_BlockLlt, LongColumnsOfEveryBlockSizeAreExact) {
       EXPECT_LT(sys.solveError(registry, spec), 1e-12) << "dimension " << d << ", " << spec;
     }
   }
+}
+
+TEST(Solvers_BlockLlt, ThreeDimensionalPosesAndPointsTakeSixBySixBlocks) {
+  // 3D poses (6) with points (3) and a few scalars: block-llt pads to 6 x 6 blocks; auto
+  // takes it for such systems; a failing vertex is named by its first column.
+  std::mt19937 rng(61);
+  const std::vector<int> dims = {6, 3, 6, 6, 3, 3, 6, 1, 6, 6, 3, 6, 4, 5};
+  const int nb = static_cast<int>(dims.size());
+  const MixedSystem sys(dims, chainAndRandomPairs(nb, rng), rng);
+  SolverRegistry registry;
+  solvers::registerSolvers(registry);
+  for (const char* spec : {"block-llt:amd", "block-llt:natural", "auto"}) {
+    EXPECT_LT(sys.solveError(registry, spec), 1e-12) << spec;
+  }
+  auto solver = registry.create("auto");
+  ASSERT_TRUE(solver->analyze(sys.structure()).ok());
+  EXPECT_NE(solver->name().find("block-llt"), std::string::npos) << solver->name();
+  for (const int b : {0, 4, 7, nb - 1}) {
+    const LinearSolverResult r = sys.negatedBlockFailure(registry, "block-llt:natural", b);
+    EXPECT_EQ(r.status, LinearSolverStatus::kNotPositiveDefinite) << b;
+    EXPECT_EQ(r.column, sys.starts[b]) << b;
+  }
+  // Beyond six dimensions block-llt refuses and says what to use instead.
+  const MixedSystem wide(std::vector<int>{7, 7, 7}, {{0, 1}, {1, 2}}, rng);
+  auto llt = registry.create("block-llt:natural");
+  const LinearSolverResult refused = llt->analyze(wide.structure());
+  EXPECT_FALSE(refused.ok());
+  EXPECT_NE(refused.message.find("at most 6"), std::string::npos) << refused.message;
 }
 
 TEST(Solvers_BlockLlt, KernelPathFollowsTheCpuAndTheEnvironment) {

@@ -50,13 +50,12 @@ struct AutoSolverOptions {
   /// L) a scalar system is factorised by CHOLMOD's supernodal Cholesky (dense BLAS on the
   /// fronts, BLAS threads) instead of the simplicial eigen-ldlt.
   double supernodal_flops = 2e9;
-  /// The same for systems of 2x2 or 3x3 blocks, against block-llt: its fixed-size kernels
+  /// The same for systems of 2x2 to 6x6 blocks, against block-llt: its fixed-size kernels
   /// stay ahead of CHOLMOD up to a smaller size than eigen-ldlt does.
   double block_supernodal_flops = 1e9;
-  /// The same for systems with vertices of 4 or more dimensions (3D poses): their dense
-  /// 6x6 blocks make wide supernodes from the start, where CHOLMOD's BLAS fronts beat the
-  /// simplicial eigen-ldlt already at garage's 2e7 flops (1.5x; sphere2500 and torus3d
-  /// 2-3x).
+  /// The same for systems with vertices of more than 6 dimensions, against eigen-ldlt:
+  /// their dense blocks make wide supernodes from the start, where CHOLMOD's BLAS fronts
+  /// beat the simplicial factorisation early.
   double wide_block_supernodal_flops = 1e7;
   /// Above this many predicted flops with AMD, METIS is computed as well and taken when it
   /// predicts fewer: it costs about as much as a factorisation of a few 1e7 flops and pays
@@ -67,7 +66,7 @@ struct AutoSolverOptions {
   int concurrent_ordering_blocks = 200000;
 };
 
-/// Tuning of block-llt (the block up-looking Cholesky of 2x2 and 3x3 blocks).
+/// Tuning of block-llt (the block up-looking Cholesky of 1x1 to 6x6 blocks).
 struct BlockCholeskyOptions {
   /// A dense trailing part of L of at least this many block columns is factorised as
   /// one dense matrix (without padding the vertices smaller than the block size) ...
