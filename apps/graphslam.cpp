@@ -15,6 +15,7 @@
 
 #include "builtins.h"
 #include "cli_common.h"
+#include "commands.h"
 #include "graphslam/core/plugin.h"
 #include "graphslam/eval/point_errors.h"
 #include "graphslam/init/global_se2.h"
@@ -463,27 +464,11 @@ int cmdOptimize(const std::vector<std::string>& args) {
       writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
 }
 
-constexpr const char* kMainUsage =
-    "usage: graphslam COMMAND [options]   (graphslam COMMAND --help for each)\n"
-    "\n"
-    "commands:\n"
-    "  optimize       optimise a .g2o graph, a .npz homework file or the built-in default graph\n"
-    "  simulate       write a synthetic Manhattan-world graph with ground truth\n"
-    "  eval           trajectory error: eval ape|rpe REF EST (evo's definitions)\n"
-    "  deadreckon     compose relative poses (3xN matrix file or a .g2o odometry chain)\n"
-    "  convert        TORO / iSAM / relative-pose matrix -> .g2o; .g2o -> TUM / KITTI\n"
-    "  info           counts, components, fixed vertices, sparsity picture of H\n"
-    "  drivebot       DriveBot simulator + online SLAM (UCL COMP0130 coursework 2 experiments)\n"
-    "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
-    "  add-outliers   append seeded random wrong loop closures to a 2D pose graph\n"
-    "  incremental    replay a graph pose by pose through the incremental optimizer, timed\n"
-    "  list-types     list the .g2o tags this build knows\n"
-    "  list-solvers   list the linear solvers this build knows\n"
-    "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
-
 }  // namespace
 
-int main(int argc, char** argv) {
+// The tool's commands, run by the graphslam launcher (main.cpp) once it has checked the
+// command's name: loaded only when a command runs.
+extern "C" __attribute__((visibility("default"))) int graphslam_tool_run(int argc, char** argv) {
 #ifdef __GLIBC__
   // Large arrays (the factor, H, the graph's edge lists) come from mmap and go back to the
   // system when freed. glibc's default raises the mmap threshold to 32 MB after the first
@@ -493,20 +478,8 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 4 << 20);
 #endif
   configureProcess();
-  if (argc < 2) {
-    std::cerr << kMainUsage;
-    return kExitBadInput;
-  }
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
-  if (command == "--help" || command == "-h" || command == "help") {
-    std::cout << kMainUsage;
-    return kExitOk;
-  }
-  if (command == "--version") {
-    std::cout << "graphslam " << GRAPHSLAM_VERSION << "\n";
-    return kExitOk;
-  }
   try {
     if (command == "optimize") return cmdOptimize(args);
     if (command == "list-types") return cmdListTypes(args);

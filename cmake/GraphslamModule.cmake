@@ -36,3 +36,24 @@ function(graphslam_add_plugin name)
   install(TARGETS ${target} LIBRARY DESTINATION ${GRAPHSLAM_PLUGIN_INSTALL_DIR})
   set_property(GLOBAL APPEND PROPERTY GRAPHSLAM_PLUGINS ${target})
 endfunction()
+
+# graphslam_runtime_name(<var> <libraries...>)
+# The name a program loads the first library file of <libraries> by at run time (its ELF
+# SONAME, e.g. libopenblas.so.0), for libraries the project loads on first use with dlopen
+# instead of linking; empty when none is a file.
+function(graphslam_runtime_name var)
+  set(${var} "" PARENT_SCOPE)
+  foreach(_lib IN LISTS ARGN)
+    if(EXISTS "${_lib}" AND NOT IS_DIRECTORY "${_lib}")
+      get_filename_component(_real "${_lib}" REALPATH)
+      execute_process(COMMAND ${CMAKE_OBJDUMP} -p "${_real}" OUTPUT_VARIABLE _dump
+                      ERROR_QUIET RESULT_VARIABLE _rc)
+      if(_rc EQUAL 0 AND _dump MATCHES "SONAME +([^\n ]+)")
+        set(${var} "${CMAKE_MATCH_1}" PARENT_SCOPE)
+      else()
+        set(${var} "${_real}" PARENT_SCOPE)
+      endif()
+      return()
+    endif()
+  endforeach()
+endfunction()

@@ -31,17 +31,17 @@ bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::V
   const int h = n - k;
   double* a = f.data();
   int info = 0;
-  dpotrf_("L", &k, a, &n, &info);
+  support::blas::dpotrf("L", &k, a, &n, &info);
   if (info != 0) return false;
   const int inc = 1;
-  dtrsv_("L", "N", "N", &k, a, &n, rhs.data(), &inc);
+  support::blas::dtrsv("L", "N", "N", &k, a, &n, rhs.data(), &inc);
   if (h == 0) return true;
   const double one = 1.0;
   const double minus_one = -1.0;
   double* below = a + k;
-  dtrsm_("R", "L", "T", "N", &h, &k, &one, a, &n, below, &n);
-  dsyrk_("L", "N", &h, &k, &minus_one, below, &n, &one, below + static_cast<Index>(k) * n, &n);
-  dgemv_("N", &h, &k, &minus_one, below, &n, rhs.data(), &inc, &one, rhs.data() + k, &inc);
+  support::blas::dtrsm("R", "L", "T", "N", &h, &k, &one, a, &n, below, &n);
+  support::blas::dsyrk("L", "N", &h, &k, &minus_one, below, &n, &one, below + static_cast<Index>(k) * n, &n);
+  support::blas::dgemv("N", &h, &k, &minus_one, below, &n, rhs.data(), &inc, &one, rhs.data() + k, &inc);
   return true;
 }
 #else

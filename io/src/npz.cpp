@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/io/npz.h"
 
-#include <zip.h>
+#include "zip_api.h"
 
 #include <algorithm>
 #include <cctype>
@@ -19,6 +19,8 @@
 #include "graphslam/support/file_util.h"
 
 namespace graphslam::io {
+
+using detail::zipApi;
 
 namespace {
 
@@ -354,16 +356,16 @@ struct NpzArchive::Impl {
   std::vector<std::string> names;
   std::vector<zip_uint64_t> index;  // member index of each name
   ~Impl() {
-    if (zip) zip_discard(zip);  // read-only: nothing to write back
+    if (zip) zipApi().discard(zip);  // read-only: nothing to write back
   }
 };
 
 namespace {
 std::string zipErrorText(int code) {
   zip_error_t e;
-  zip_error_init_with_code(&e, code);
-  std::string text = zip_error_strerror(&e);
-  zip_error_fini(&e);
+  zipApi().error_init_with_code(&e, code);
+  std::string text = zipApi().error_strerror(&e);
+  zipApi().error_fini(&e);
   return text;
 }
 }  // namespace
@@ -373,7 +375,7 @@ NpzArchive::NpzArchive(const std::string& path) : impl_(std::make_unique<Impl>()
   errno = 0;
   if (!std::ifstream(path).good()) throw InputError(support::cannotOpenMessage(path, errno));
   int code = 0;
-  impl_->zip = zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code);
+  impl_->zip = zipApi().open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code);
   if (!impl_->zip) {
     throw InputError(path + ": not a readable .npz (zip) archive: " + zipErrorText(code));
   }
@@ -386,18 +388,18 @@ NpzArchive NpzArchive::fromBytes(std::string bytes, const std::string& name) {
   im.path = name;
   im.bytes = std::move(bytes);
   zip_error_t error;
-  zip_error_init(&error);
-  zip_source_t* source = zip_source_buffer_create(im.bytes.data(), im.bytes.size(), 0, &error);
+  zipApi().error_init(&error);
+  zip_source_t* source = zipApi().source_buffer_create(im.bytes.data(), im.bytes.size(), 0, &error);
   if (source) {
-    im.zip = zip_open_from_source(source, ZIP_RDONLY | ZIP_CHECKCONS, &error);
-    if (!im.zip) zip_source_free(source);
+    im.zip = zipApi().open_from_source(source, ZIP_RDONLY | ZIP_CHECKCONS, &error);
+    if (!im.zip) zipApi().source_free(source);
   }
   if (!im.zip) {
-    const std::string text = zip_error_strerror(&error);
-    zip_error_fini(&error);
+    const std::string text = zipApi().error_strerror(&error);
+    zipApi().error_fini(&error);
     throw InputError(name + ": not a readable .npz (zip) archive: " + text);
   }
-  zip_error_fini(&error);
+  zipApi().error_fini(&error);
   archive.listMembers();
   return archive;
 }
@@ -405,9 +407,9 @@ NpzArchive NpzArchive::fromBytes(std::string bytes, const std::string& name) {
 NpzArchive::NpzArchive() : impl_(std::make_unique<Impl>()) {}
 
 void NpzArchive::listMembers() {
-  const zip_int64_t n = zip_get_num_entries(impl_->zip, 0);
+  const zip_int64_t n = zipApi().get_num_entries(impl_->zip, 0);
   for (zip_int64_t i = 0; i < n; ++i) {
-    const char* raw = zip_get_name(impl_->zip, static_cast<zip_uint64_t>(i), 0);
+    const char* raw = zipApi().get_name(impl_->zip, static_cast<zip_uint64_t>(i), 0);
     if (!raw) continue;
     std::string name = raw;
     if (!name.empty() && name.back() == '/') continue;  // directory entry
@@ -438,19 +440,19 @@ NpyArray NpzArchive::read(const std::string& name) const {
   }
   const zip_uint64_t idx = impl_->index[static_cast<std::size_t>(it - impl_->names.begin())];
   zip_stat_t st;
-  zip_stat_init(&st);
-  if (zip_stat_index(impl_->zip, idx, 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE)) {
-    fail(what, std::string("cannot read the member's size: ") + zip_strerror(impl_->zip));
+  zipApi().stat_init(&st);
+  if (zipApi().stat_index(impl_->zip, idx, 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE)) {
+    fail(what, std::string("cannot read the member's size: ") + zipApi().strerror(impl_->zip));
   }
-  zip_file_t* file = zip_fopen_index(impl_->zip, idx, 0);
-  if (!file) fail(what, std::string("cannot open the member: ") + zip_strerror(impl_->zip));
+  zip_file_t* file = zipApi().fopen_index(impl_->zip, idx, 0);
+  if (!file) fail(what, std::string("cannot open the member: ") + zipApi().strerror(impl_->zip));
   std::vector<unsigned char> bytes(static_cast<std::size_t>(st.size));
   std::string problem;
   zip_uint64_t got = 0;
   while (got < st.size) {
-    const zip_int64_t r = zip_fread(file, bytes.data() + got, st.size - got);
+    const zip_int64_t r = zipApi().fread(file, bytes.data() + got, st.size - got);
     if (r < 0) {
-      problem = zip_file_strerror(file);
+      problem = zipApi().file_strerror(file);
       break;
     }
     if (r == 0) {
@@ -463,11 +465,11 @@ NpyArray NpzArchive::read(const std::string& name) const {
   if (problem.empty()) {
     // One more read reaches the end of the member, where libzip verifies the CRC-32.
     unsigned char extra = 0;
-    const zip_int64_t r = zip_fread(file, &extra, 1);
-    if (r < 0) problem = zip_file_strerror(file);
+    const zip_int64_t r = zipApi().fread(file, &extra, 1);
+    if (r < 0) problem = zipApi().file_strerror(file);
     if (r > 0) problem = "member is longer than its recorded size";
   }
-  const int close_code = zip_fclose(file);
+  const int close_code = zipApi().fclose(file);
   if (problem.empty() && close_code != 0) problem = zipErrorText(close_code);
   if (!problem.empty()) fail(what, "corrupt member: " + problem);
   return parseNpy(bytes.data(), bytes.size(), what);

@@ -10,9 +10,9 @@
 #include "graphslam/solvers/options.h"
 #include "openmp_control.h"
 #include "ordering.h"
-#include "suitesparse.h"
+#include "suitesparse_backend.h"
 
-namespace graphslam::solvers {
+namespace graphslam::solvers::suitesparse {
 
 std::string cholmodStatusText(int status) {
   const std::string code = "status " + std::to_string(status);
@@ -269,4 +269,4 @@ std::unique_ptr<detail::OrderedSolver> makeCholmodComplexSolver(bool supernodal,
                                          prepermuted_lower, options);
 }
 
-}  // namespace graphslam::solvers
+}  // namespace graphslam::solvers::suitesparse

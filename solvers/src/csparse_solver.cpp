@@ -7,9 +7,9 @@
 
 #include "common.h"
 #include "ordering.h"
-#include "suitesparse.h"
+#include "suitesparse_backend.h"
 
-namespace graphslam::solvers {
+namespace graphslam::solvers::suitesparse {
 
 namespace {
 
@@ -116,4 +116,4 @@ std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering,
   return std::make_unique<CsparseSolver>(ordering, std::move(cache));
 }
 
-}  // namespace graphslam::solvers
+}  // namespace graphslam::solvers::suitesparse

@@ -11,10 +11,10 @@
 
 #include "common.h"
 #include "graphslam/support/error.h"
+#include "suitesparse.h"
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
 #include <amd.h>
-#include <cholmod.h>
 #include <colamd.h>
 #endif
 
@@ -100,32 +100,6 @@ std::vector<int> colamdColumns(int rows, int cols, const std::vector<int>& ptr,
   return {p.begin(), p.begin() + cols};
 }
 
-/// METIS nested dissection (through CHOLMOD) on a symmetric block graph.
-std::vector<int> metisBlocks(const BlockGraph& g) {
-  cholmod_common cc;
-  cholmod_start(&cc);
-  cc.print = 0;
-  cc.error_handler = nullptr;
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<size_t>(g.num_blocks);
-  a.nzmax = g.idx.size();
-  a.p = const_cast<int*>(g.ptr.data());
-  a.i = const_cast<int*>(g.idx.data());
-  a.stype = 1;  // symmetric: METIS takes the graph of A itself (upper part read)
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_PATTERN;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  std::vector<int> perm(static_cast<std::size_t>(g.num_blocks));
-  const int ok = cholmod_metis(&a, nullptr, 0, 0, perm.data(), &cc);
-  const int status = cc.status;
-  cholmod_finish(&cc);
-  if (!ok || status < CHOLMOD_OK) {
-    throw Error("METIS ordering failed (CHOLMOD status " + std::to_string(status) + ")");
-  }
-  return perm;
-}
 #endif
 
 /// Reverse Cuthill-McKee (George and Liu): each connected component by breadth-first
@@ -224,7 +198,7 @@ std::vector<int> orderBlockGraph(Ordering ordering, const BlockGraph& g) {
 #endif
     case Ordering::kMetis:
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-      return metisBlocks(g);
+      return metisBlockOrdering(g);
 #else
       break;
 #endif

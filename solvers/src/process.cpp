@@ -7,12 +7,14 @@
 #include <atomic>
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-#include <cholmod.h>
+#include <SuiteSparse_config.h>
 
 #include <cstdlib>
+#include <string>
 #include <mutex>
 #include <thread>
 
+#include "graphslam/support/blas.h"
 #include "openmp_control.h"
 #endif
 
@@ -93,9 +95,14 @@ bool cholmodOpenMpSerialized() { return false; }
 bool setBlasThreads(int threads) {
   using SetThreads = void (*)(int);
   const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set == nullptr) return false;
-  set(threads);
-  return true;
+  if (set != nullptr) {
+    set(threads);
+    return true;
+  }
+  // Not loaded yet (the library loads BLAS on first use): OpenBLAS reads its thread count
+  // from the environment when it loads.
+  if (support::blas::loaded()) return false;  // loaded, and not OpenBLAS
+  return ::setenv("OPENBLAS_NUM_THREADS", std::to_string(threads).c_str(), 1) == 0;
 }
 
 }  // namespace graphslam::solvers

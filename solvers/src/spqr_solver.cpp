@@ -5,9 +5,9 @@
 #include <memory>
 
 #include "common.h"
-#include "suitesparse.h"
+#include "suitesparse_backend.h"
 
-namespace graphslam::solvers {
+namespace graphslam::solvers::suitesparse {
 
 namespace {
 
@@ -206,4 +206,4 @@ std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering) {
   return std::make_unique<SpqrSolver>(ordering);
 }
 
-}  // namespace graphslam::solvers
+}  // namespace graphslam::solvers::suitesparse

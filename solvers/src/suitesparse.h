@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
-// Private to graphslam::solvers: factories of the SuiteSparse backends.
+// Private to graphslam::solvers: factories of the SuiteSparse backends. They load the
+// backend library on first use (suitesparse_loader.cpp) and throw graphslam::Error when it
+// cannot be loaded.
 #pragma once
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/solvers/options.h"
+#include "ordering.h"
 
 namespace graphslam::solvers {
 
@@ -29,8 +33,7 @@ std::unique_ptr<LinearSolver> makeCsparseSolver(Ordering ordering,
 std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
                                                 std::shared_ptr<OrderingCache> cache);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);
-/// A CHOLMOD status (cholmod_common::status, also SuiteSparseQR's) in words:
-/// "out of memory (status -2)", "problem too large (status -3)", else "status N".
-std::string cholmodStatusText(int status);
+/// METIS nested dissection of a block graph (through CHOLMOD).
+std::vector<int> metisBlockOrdering(const detail::BlockGraph& g);
 
 }  // namespace graphslam::solvers

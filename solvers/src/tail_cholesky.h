@@ -141,9 +141,9 @@ class TailCholesky final : public OrderedSolver {
       }
     }
     const double minus_one = -1.0, one = 1.0;
-    dsyrk_("L", "N", &k_, &m_, &minus_one, panel_matrix_.data(), &k_, &one, tail_.data(), &k_);
+    support::blas::dsyrk("L", "N", &k_, &m_, &minus_one, panel_matrix_.data(), &k_, &one, tail_.data(), &k_);
     int info = 0;
-    dpotrf_("L", &k_, tail_.data(), &k_, &info);
+    support::blas::dpotrf("L", &k_, tail_.data(), &k_, &info);
     if (info != 0) return notPositive(t_ + info - 1, ", dense tail");
     return LinearSolverResult::success();
   }
@@ -362,8 +362,8 @@ class TailCholesky final : public OrderedSolver {
       for (int c = 0; c < d; ++c) tail_rhs_[static_cast<std::size_t>(c) * k_ + i] = yt[i * d + c];
     }
     const double one = 1.0;
-    dtrsm_("L", "L", "N", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
-    dtrsm_("L", "L", "T", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
+    support::blas::dtrsm("L", "L", "N", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
+    support::blas::dtrsm("L", "L", "T", "N", &k_, &d, &one, tail_.data(), &k_, tail_rhs_.data(), &k_);
     for (int i = 0; i < k_; ++i) {
       for (int c = 0; c < d; ++c) {
         y[static_cast<std::ptrdiff_t>(t_ + i) * d + c] =

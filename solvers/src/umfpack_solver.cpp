@@ -6,9 +6,9 @@
 
 #include "common.h"
 #include "ordering.h"
-#include "suitesparse.h"
+#include "suitesparse_backend.h"
 
-namespace graphslam::solvers {
+namespace graphslam::solvers::suitesparse {
 
 namespace {
 
@@ -140,4 +140,4 @@ std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
   return std::make_unique<UmfpackSolver>(ordering, std::move(cache));
 }
 
-}  // namespace graphslam::solvers
+}  // namespace graphslam::solvers::suitesparse

@@ -44,10 +44,11 @@ void serializeCholmodOpenMp(bool on = true);
 /// Whether serializeCholmodOpenMp(true) is in effect.
 [[nodiscard]] bool cholmodOpenMpSerialized();
 
-/// Sets the number of threads (at least 1) of the BLAS loaded in the process (OpenBLAS's
-/// openblas_set_num_threads, which overrides OPENBLAS_NUM_THREADS for every BLAS call of
-/// the process from then on). Returns false, changing nothing, when the loaded BLAS has no
-/// such setting (the reference BLAS, ATLAS) or none is loaded.
+/// Sets the number of threads (at least 1) of the process's BLAS: OpenBLAS's
+/// openblas_set_num_threads when it is loaded (which overrides OPENBLAS_NUM_THREADS for every
+/// BLAS call of the process from then on); before the BLAS is loaded (graphslam loads it on
+/// first use), OPENBLAS_NUM_THREADS for it to read when it loads. Returns false, changing
+/// nothing, when the loaded BLAS has no such setting (the reference BLAS, ATLAS).
 bool setBlasThreads(int threads);
 
 }  // namespace graphslam::solvers
