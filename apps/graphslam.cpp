@@ -72,32 +72,14 @@ constexpr const char* kOptimizeUsage =
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
     "remove the gauge freedom gets zeros; the others are relative to it.";
 
-/// How the iteration line marks the first iteration's dogleg step.
-std::string doglegNote(int halvings) {
-  return "  (dogleg step: trust radius = Gauss-Newton step / 2^" + std::to_string(halvings) + ")";
-}
-
-/// How the iteration line shows the dogleg algorithm's trust region.
-std::string radiusNote(double radius, int trials) {
-  char text[64];
-  std::snprintf(text, sizeof text, "  (trust radius %.3e, %d %s)", radius, trials,
-                trials == 1 ? "trial" : "trials");
-  return text;
-}
-
-/// How the iteration line marks a chord step.
-std::string chordNote(int cg_iterations) {
-  return "  (chord step: previous factorisation, " + std::to_string(cg_iterations) +
-         (cg_iterations == 1 ? " CG iteration)" : " CG iterations)");
-}
-
+/// A --stats line: the optimizer's figures, then the step strategy's (IterationStats).
 std::string csvLine(const IterationStats& s) {
   std::ostringstream o;
   o.precision(17);
-  o << s.iteration << ',' << s.chi2 << ',' << s.lambda << ',' << s.step_norm << ',' << s.attempts
-    << ',' << (s.accepted ? 1 : 0) << ',' << s.time.linearize << ',' << s.time.build << ','
-    << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed << ',' << s.cg_iterations << ','
-    << s.dogleg_halvings;
+  o << s.iteration << ',' << s.chi2 << ',' << s.step_norm << ',' << s.factorizations << ','
+    << s.trials << ',' << (s.accepted ? 1 : 0) << ',' << s.time.linearize << ',' << s.time.build
+    << ',' << s.time.factorize << ',' << s.time.solve << ',' << s.elapsed << ',' << s.strategy.step
+    << ',' << s.strategy.valuesText();
   return o.str();
 }
 
@@ -315,13 +297,11 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
   const bool quiet = o.quiet;
   o.options.callback = [&csv, quiet](const IterationStats& s) {
     if (!quiet) {
+      const std::string note = !s.accepted               ? "  (rejected)"
+                               : s.strategy.note.empty() ? std::string()
+                                                         : "  (" + s.strategy.note + ")";
       std::printf("iter %3d  chi2 %.10g  lambda %.3e  step %.3e  time %.4f s%s\n", s.iteration,
-                  s.chi2, s.lambda, s.step_norm, s.time.total(),
-                  !s.accepted             ? "  (rejected)"
-                  : s.attempts == 0       ? chordNote(s.cg_iterations).c_str()
-                  : s.dogleg_halvings > 0 ? doglegNote(s.dogleg_halvings).c_str()
-                  : s.trust_radius > 0    ? radiusNote(s.trust_radius, s.dogleg_trials).c_str()
-                                          : "");
+                  s.chi2, s.strategy.value("lambda"), s.step_norm, s.time.total(), note.c_str());
       std::fflush(stdout);
     }
     csv.push_back(csvLine(s));
@@ -339,8 +319,8 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
 
 void writeStats(const std::string& path, const std::vector<std::string>& csv) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "iteration,chi2,lambda,step_norm,attempts,accepted,time_linearize,time_build,"
-           "time_factorize,time_solve,elapsed,cg_iterations,dogleg_halvings\n";
+    out << "iteration,chi2,step_norm,factorizations,trials,accepted,time_linearize,time_build,"
+           "time_factorize,time_solve,elapsed,step,strategy\n";
     for (const auto& line : csv) out << line << "\n";
   });
 }

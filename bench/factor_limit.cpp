@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
       Optimizer optimizer(graph, solvers, options);
       const Summary s = optimizer.optimize();
       int attempts = 0;
-      for (const auto& it : s.per_iteration) attempts += it.attempts;
+      for (const auto& it : s.per_iteration) attempts += it.factorizations;
       const double per_iteration = s.iterations ? s.time.total() / s.iterations : 0.0;
       const double per_factorisation = attempts ? s.time.factorize / attempts : 0.0;
       std::printf(

@@ -118,7 +118,7 @@ def tool_run(tool, path, env):
     return {
         "status": st.group(1) if st else "?",
         "iterations": int(it.group(1)) if it else len(rows),
-        "attempts": sum(int(r["attempts"]) for r in rows),
+        "attempts": sum(int(r["factorizations"]) for r in rows),
         "chi2_initial": float(m.group(1)), "chi2_final": float(m.group(2)),
         "optimize_s": float(t.group(1)) if t else float("nan"),
         "init_s": float(ini.group(1)) if ini else 0.0,

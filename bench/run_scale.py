@@ -65,7 +65,7 @@ def solve_one(tool, limit_bin, limit_max, simplicial_max, n, seed, threads, env,
         # Per iteration (every step, chord steps too) and per factorisation (chord steps,
         # conjugate gradients on the previous factorisation, add their work but are not
         # counted: the stricter figure).
-        row["factorisations"] = sum(int(r["attempts"]) for r in its)
+        row["factorisations"] = sum(int(r["factorizations"]) for r in its)
         per = max(row["factorisations"], 1)
         work = sum(float(r[k]) for r in its for k in (
             "time_linearize", "time_build", "time_factorize", "time_solve"))

@@ -185,6 +185,21 @@ std::string failureMessage(const Optimizer::Impl& im, const Graph& graph,
 
 }  // namespace
 
+double StrategyReport::value(const std::string& name, double otherwise) const {
+  for (const auto& [key, v] : values) {
+    if (key == name) return v;
+  }
+  return otherwise;
+}
+
+std::string StrategyReport::valuesText() const {
+  std::string out;
+  for (const auto& [key, v] : values) {
+    out += (out.empty() ? "" : ";") + key + "=" + support::formatDouble(v);
+  }
+  return out;
+}
+
 NonFiniteEdge findNonFiniteEdge(Graph& graph) {
   const auto& edges = graph.edges();
   std::size_t count = 0;
@@ -322,7 +337,8 @@ Summary Optimizer::optimize() {
     st.iteration = it;
     linearizeAndAssemble(st);
     detail::StepContext ctx{im, graph_, options_, st, it, cost};
-    const detail::StepResult r = strategy->step(ctx);
+    const detail::StepResult r = detail::runIteration(*strategy, ctx);
+    st.strategy = strategy->report();
     const double old_cost = cost;
     cost = r.cost;
     recordIteration(summary, st, r, t_start);
@@ -361,7 +377,6 @@ void Optimizer::recordIteration(Summary& summary, IterationStats& st, const deta
                                 Clock::time_point t_start) {
   using Kind = detail::StepResult::Kind;
   st.chi2 = r.cost;
-  st.lambda = r.kind == Kind::kAccepted ? r.lambda : 0.0;
   st.step_norm = r.kind == Kind::kAccepted || r.kind == Kind::kRestarted ? r.step_norm : 0.0;
   st.accepted = r.kind == Kind::kAccepted || r.kind == Kind::kRestarted;
   st.undamped = r.undamped;

@@ -169,21 +169,22 @@ TEST(Datasets_FirstStep, M3500bRisingFirstStepBecomesDogleg) {
     const IterationStats& first = s.per_iteration[0];
     std::printf(
         "m3500b, first_step_dogleg %d: chi2 %.6g -> %.6g, %d factorisation(s), %d halvings\n",
-        dogleg, s.initial_chi2, first.chi2, first.attempts, first.dogleg_halvings);
+        dogleg, s.initial_chi2, first.chi2, first.factorizations,
+        static_cast<int>(first.strategy.value("halvings")));
     EXPECT_NEAR(s.initial_chi2, 7743.03, 0.01);
-    EXPECT_EQ(first.attempts, 1);
+    EXPECT_EQ(first.factorizations, 1);
     if (dogleg) {
       // The graph holds the step taken (the undamped one is undone at the end: above
       // the best chi2 seen).
       EXPECT_NEAR(data.loaded.graph.chi2(), first.chi2, 1e-9 * first.chi2);
-      EXPECT_EQ(first.dogleg_halvings, 2);
+      EXPECT_EQ(first.strategy.value("halvings"), 2);
       // The Gauss-Newton step raised chi2 by 5.1 times the decrease its model promised:
       // the first trial is already at a quarter of it (firstStepDogleg).
-      EXPECT_EQ(first.dogleg_trials, 1);
+      EXPECT_EQ(first.strategy.value("trials"), 1);
       EXPECT_LE(first.chi2, 4212.0166);
     } else {
-      EXPECT_EQ(first.dogleg_halvings, 0);
-      EXPECT_EQ(first.dogleg_trials, 0);
+      EXPECT_EQ(first.strategy.value("halvings"), 0);
+      EXPECT_EQ(first.strategy.value("trials"), 0);
       EXPECT_GT(first.chi2, 30000.0);  // the undamped step: 36583
     }
   }
@@ -200,8 +201,8 @@ TEST(Datasets_FirstStep, MitSlightlyRisingFirstStepTriesHalfFirst) {
   if (HasFatalFailure()) return;
   const IterationStats& first = s.per_iteration[0];
   EXPECT_NEAR(s.initial_chi2, 71.5448, 1e-3);
-  EXPECT_EQ(first.dogleg_halvings, 1);
-  EXPECT_EQ(first.dogleg_trials, 1);
+  EXPECT_EQ(first.strategy.value("halvings"), 1);
+  EXPECT_EQ(first.strategy.value("trials"), 1);
   EXPECT_NEAR(first.chi2, 50.4336, 1e-3);
 }
 
@@ -226,7 +227,8 @@ TEST(Datasets_FromFile, VictoriaParkDampingDoesNotUnderflow) {
   EXPECT_LT(s.final_chi2, 772207.0);
   double smallest_lambda = 1e300;
   for (const auto& it : s.per_iteration) {
-    if (it.lambda > 0) smallest_lambda = std::min(smallest_lambda, it.lambda);
+    if (it.strategy.value("lambda") > 0)
+      smallest_lambda = std::min(smallest_lambda, it.strategy.value("lambda"));
   }
   EXPECT_GT(smallest_lambda, 1e-20);
 }

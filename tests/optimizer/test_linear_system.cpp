@@ -222,7 +222,7 @@ TEST(Optimizer_Batch, SolverBlockOrderGivesTheSameSteps) {
     opt.linear_solver = solver;
     Optimizer optimizer(g, registry, opt);
     const Summary s = optimizer.optimize();
-    for (const auto& it : s.per_iteration) *cg += it.cg_iterations;
+    for (const auto& it : s.per_iteration) *cg += it.strategy.value("cg_iterations");
     std::vector<double> state, buf;
     for (const auto& [id, v] : g.vertices()) {
       buf.resize(static_cast<std::size_t>(v->estimateDataDimension()));

@@ -292,11 +292,12 @@ TEST(Optimizer_Batch, ChordStepsSaveFactorisationsAndReachTheSameMinimum) {
   ASSERT_EQ(gn.status, TerminationStatus::kConverged) << gn.message;
   auto factorisations = [](const Summary& s) {
     int n = 0;
-    for (const auto& it : s.per_iteration) n += it.attempts;
+    for (const auto& it : s.per_iteration) n += it.factorizations;
     return n;
   };
-  for (const auto& it : gn.per_iteration) EXPECT_GE(it.attempts, 1) << "iteration " << it.iteration;
-  EXPECT_EQ(fallback.per_iteration.back().attempts, 0);  // the converging step was a chord
+  for (const auto& it : gn.per_iteration)
+    EXPECT_GE(it.factorizations, 1) << "iteration " << it.iteration;
+  EXPECT_EQ(fallback.per_iteration.back().factorizations, 0);  // the converging step was a chord
   EXPECT_LT(factorisations(fallback), factorisations(gn));
   EXPECT_NEAR(fallback.final_chi2, gn.final_chi2, 1e-8 * gn.final_chi2);
   std::printf("chi2 %.10g (default, %d factorisations) and %.10g (gn, %d)\n", fallback.final_chi2,
@@ -321,10 +322,11 @@ TEST(Optimizer_Batch, ChordStepsIterateConjugateGradientsOnTheLastFactorisation)
   int cg = 0;
   for (const auto& it : fallback.per_iteration) {
     std::printf("iteration %d: chi2 %.10g, %d factorisations, %d CG iterations\n", it.iteration,
-                it.chi2, it.attempts, it.cg_iterations);
-    factorisations += it.attempts;
-    cg += it.cg_iterations;
-    EXPECT_EQ(it.cg_iterations > 0, it.attempts == 0) << "iteration " << it.iteration;
+                it.chi2, it.factorizations, static_cast<int>(it.strategy.value("cg_iterations")));
+    factorisations += it.factorizations;
+    cg += static_cast<int>(it.strategy.value("cg_iterations"));
+    EXPECT_EQ(it.strategy.value("cg_iterations") > 0, it.factorizations == 0)
+        << "iteration " << it.iteration;
   }
   EXPECT_EQ(factorisations, 1);
   EXPECT_GE(fallback.iterations, 3);
@@ -332,7 +334,7 @@ TEST(Optimizer_Batch, ChordStepsIterateConjugateGradientsOnTheLastFactorisation)
   // it): the second is a chord step because the first agreed with its model.
   ASSERT_GE(fallback.per_iteration.size(), 2u);
   EXPECT_GT(fallback.initial_chi2 - fallback.per_iteration[0].chi2, 0.01 * fallback.initial_chi2);
-  EXPECT_EQ(fallback.per_iteration[1].attempts, 0);
+  EXPECT_EQ(fallback.per_iteration[1].factorizations, 0);
   EXPECT_GT(cg, fallback.iterations - 1);  // some chord step took more than one iteration
   EXPECT_NEAR(fallback.final_chi2, gn.final_chi2, 1e-8 * gn.final_chi2);
   std::printf("chi2 %.10g -> %.10g (default) and %.10g (gn, %d iterations)\n",

@@ -19,33 +19,21 @@ int ChordSteps::budget(const Optimizer::Impl& im, int max_iterations) {
 // A chord step follows a step that lowered the objective by very little, or one whose
 // decrease agreed closely with its model when the factor is dense enough for a few
 // preconditioned iterations to be worth a factorisation.
-bool ChordSteps::tryStep(StepContext& ctx, double& cost) {
-  if (!ready_) return false;
+int ChordSteps::propose(StepContext& ctx) {
+  if (!ready_) return 0;
   const Optimizer::Options::ChordSteps& o = ctx.options.chord_steps;
   const int iterations = budget(ctx.im, o.max_iterations);
   if (!(last_decrease_ < o.trigger * ctx.cost ||
         (std::abs(1.0 - last_rho_) < o.agreement && iterations >= o.agreement_iterations))) {
-    return false;
+    return 0;
   }
   const auto t0 = Clock::now();
   const StaleFactorCgResult cg = staleFactorCg(
       ctx.im.structure, *ctx.im.solver, ctx.im.rhs, ctx.im.dx, o.relative_tolerance,
       o.absolute_tolerance * ctx.options.function_tolerance * ctx.cost, iterations, scratch_);
-  ctx.stats.cg_iterations = cg.iterations;
   converged_ = cg.converged;
-  bool taken = false;
-  if (cg.iterations > 0) {
-    ctx.im.applyUpdate();
-    const double c = ctx.im.evalChi2(ctx.graph);
-    taken = c < ctx.cost || (c == ctx.cost && ctx.cost == 0.0);
-    if (taken) {
-      cost = c;
-    } else {
-      ctx.im.undoUpdate();
-    }
-  }
   ctx.stats.time.solve += seconds(t0, Clock::now());
-  return taken;
+  return cg.iterations;
 }
 
 // The solver holds a usable factorisation after a step from a fresh one, or after a chord

@@ -2,7 +2,7 @@
 // Chord steps (Options::ChordSteps): near convergence, or where the problem is close to
 // linear, H hardly changes between steps, and conjugate gradients preconditioned with the
 // last factorisation give a step almost as good as a new factorisation for a few solves.
-// Private to graphslam::core.
+// Private to graphslam::optimizer.
 #pragma once
 
 #include <vector>
@@ -13,10 +13,9 @@ namespace graphslam::detail {
 
 class ChordSteps {
  public:
-  /// Tries a chord step when the last step calls for one; returns whether it was taken
-  /// (applied, lowering the objective to `cost`). A chord step that does not lower the
-  /// objective is undone.
-  bool tryStep(StepContext& ctx, double& cost);
+  /// When the last step calls for a chord step: computes it into im.dx and returns its
+  /// conjugate-gradient iterations; 0 when there is none to try.
+  int propose(StepContext& ctx);
   /// After every undamped iteration: whether its step came from a fresh factorisation
   /// (`factorized`), the objectives before and after, and the step's model decrease.
   void record(const StepContext& ctx, bool factorized, bool chord_taken, double old_cost,

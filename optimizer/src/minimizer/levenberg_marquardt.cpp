@@ -6,7 +6,7 @@
 
 namespace graphslam::detail {
 
-void LevenbergMarquardt::beginIteration(StepContext& ctx) {
+void LevenbergMarquardt::begin(StepContext& ctx) {
   Optimizer::Impl& im = ctx.im;
   const Optimizer::Options& o = ctx.options;
   const int n = im.structure.dimension();
@@ -29,60 +29,66 @@ void LevenbergMarquardt::beginIteration(StepContext& ctx) {
     im.damping_diag.resize(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) im.damping_diag[i] = std::clamp(im.saved_diag[i], 1e-6, 1e32);
   }
+  attempts_ = 0;
+  kept_lambda_ = 0.0;
 }
 
-// Tries steps of growing damping until one lowers the objective (accepted: lambda shrinks
-// by Nielsen's rule), the model promises no meaningful decrease (converged), or
-// max_rejections is used up. A failed factorisation counts as a rejection.
-StepResult LevenbergMarquardt::step(StepContext& ctx) {
-  beginIteration(ctx);
-  Optimizer::Impl& im = ctx.im;
-  const Optimizer::Options& o = ctx.options;
-  const int n = im.structure.dimension();
-  StepResult result;
-  result.cost = ctx.cost;
-  for (int attempts = 1;; ++attempts) {
-    ctx.stats.attempts = attempts;
-    result.lambda = lambda_;
-    result.solver = solveStep(ctx, lambda_);
-    if (!result.solver.ok()) {
-      if (attempts > o.max_rejections) {
-        result.kind = StepResult::Kind::kFailed;
-        return result;
-      }
-      lambda_ *= nu_;
-      nu_ *= 2.0;
-      continue;
-    }
-    const double new_cost = evaluateStep(ctx);
-    double dx2 = 0.0;
-    for (int i = 0; i < n; ++i) dx2 += im.dx[i] * im.dx[i] * im.damping_diag[i];
-    const double predicted = lambda_ * dx2 + modelDecrease(im);
-    const double rho = (ctx.cost - new_cost) / predicted;
-    if (std::isfinite(new_cost) && predicted > 0 && rho > 0) {
-      const double a = 2.0 * rho - 1.0;
-      lambda_ = std::max(lambda_floor_, lambda_ * std::max(o.min_lambda_decrease, 1.0 - a * a * a));
-      nu_ = 2.0;
-      result.cost = new_cost;
-      result.step_norm = norm(im.dx);
-      return result;
-    }
-    im.undoUpdate();  // the errors are recomputed by the next try, or on leaving
-    if (!(predicted > o.function_tolerance * ctx.cost)) {
-      result.kind = StepResult::Kind::kConverged;  // the model promises no real decrease
-      result.message = "no further decrease possible";
-      result.cost = im.evalChi2(ctx.graph);
-      return result;
-    }
-    if (attempts > o.max_rejections) {
-      result.cost = im.evalChi2(ctx.graph);
-      result.kind = StepResult::Kind::kNoProgress;
-      result.message = "no decreasing step after " + std::to_string(attempts) + " attempts";
-      return result;
+// The step of the current lambda; a factorisation that fails counts as a rejection (lambda
+// grows) until max_rejections are used up.
+Proposal LevenbergMarquardt::propose(StepContext& ctx) {
+  Proposal p;
+  for (;;) {
+    ++attempts_;
+    p.solver = solveStep(ctx, lambda_);
+    if (p.solver.ok()) break;
+    if (attempts_ > ctx.options.max_rejections) {
+      p.kind = Proposal::Kind::kFailed;
+      return p;
     }
     lambda_ *= nu_;
     nu_ *= 2.0;
   }
+  const Optimizer::Impl& im = ctx.im;
+  double dx2 = 0.0;
+  for (std::size_t i = 0; i < im.dx.size(); ++i) dx2 += im.dx[i] * im.dx[i] * im.damping_diag[i];
+  p.predicted = lambda_ * dx2 + modelDecrease(im);
+  return p;
+}
+
+bool LevenbergMarquardt::keeps(StepContext& /*ctx*/, const Trial& trial) {
+  return trial.finite() && trial.predicted > 0 && trial.ratio() > 0;
+}
+
+// A kept step shrinks lambda by Nielsen's rule; a rejected one grows it, unless the model
+// promises no meaningful decrease (converged) or max_rejections are used up.
+Verdict LevenbergMarquardt::update(StepContext& ctx, const Trial& trial, bool kept) {
+  const Optimizer::Options& o = ctx.options;
+  Verdict v;
+  if (kept) {
+    kept_lambda_ = lambda_;
+    const double a = 2.0 * trial.ratio() - 1.0;
+    lambda_ = std::max(lambda_floor_, lambda_ * std::max(o.min_lambda_decrease, 1.0 - a * a * a));
+    nu_ = 2.0;
+    return v;
+  }
+  if (!(trial.predicted > o.function_tolerance * ctx.cost)) {
+    v.next = Verdict::Next::kConverged;  // the model promises no real decrease
+    v.message = "no further decrease possible";
+    return v;
+  }
+  if (attempts_ > o.max_rejections) {
+    v.next = Verdict::Next::kNoProgress;
+    v.message = "no decreasing step after " + std::to_string(attempts_) + " attempts";
+    return v;
+  }
+  lambda_ *= nu_;
+  nu_ *= 2.0;
+  v.next = Verdict::Next::kRetry;
+  return v;
+}
+
+StrategyReport LevenbergMarquardt::report() const {
+  return {"levenberg-marquardt", "", {{"lambda", kept_lambda_}}};
 }
 
 }  // namespace graphslam::detail

@@ -11,24 +11,12 @@ namespace graphslam::detail {
 LinearSolverResult solveStep(StepContext& ctx, double lambda) {
   const auto t0 = Clock::now();
   LinearSolverResult r = ctx.im.factorize(lambda);
+  ++ctx.stats.factorizations;
   const auto t1 = Clock::now();
   ctx.stats.time.factorize += seconds(t0, t1);
   if (r.ok()) r = ctx.im.solve();
   ctx.stats.time.solve += seconds(t1, Clock::now());
   return r;
-}
-
-double evaluateStep(StepContext& ctx) {
-  const auto t0 = Clock::now();
-  ctx.im.applyUpdate();
-  const double cost = ctx.im.evalChi2(ctx.graph);
-  ctx.stats.time.solve += seconds(t0, Clock::now());
-  return cost;
-}
-
-double rejectStep(StepContext& ctx) {
-  ctx.im.undoUpdate();
-  return ctx.im.evalChi2(ctx.graph);
 }
 
 double norm(const std::vector<double>& v) {
@@ -44,24 +32,29 @@ double modelDecrease(const Optimizer::Impl& im) {
   return d;
 }
 
-StepResult GaussNewton::step(StepContext& ctx) {
-  StepResult result;
-  result.solver = solveStep(ctx, 0.0);
-  if (!result.solver.ok()) {
-    result.kind = StepResult::Kind::kFailed;
-    result.cost = ctx.cost;
-    return result;
+Proposal GaussNewton::propose(StepContext& ctx) {
+  Proposal p;
+  p.solver = solveStep(ctx, 0.0);
+  if (!p.solver.ok()) {
+    p.kind = Proposal::Kind::kFailed;
+    return p;
   }
-  result.cost = evaluateStep(ctx);
-  if (!std::isfinite(result.cost)) {
-    result.cost = rejectStep(ctx);
-    result.kind = StepResult::Kind::kFailed;
-    result.message = "chi2 is not finite after the update";
-    return result;
-  }
-  result.step_norm = norm(ctx.im.dx);
-  return result;
+  p.predicted = modelDecrease(ctx.im);
+  return p;
 }
+
+bool GaussNewton::keeps(StepContext& /*ctx*/, const Trial& trial) { return trial.finite(); }
+
+Verdict GaussNewton::update(StepContext& /*ctx*/, const Trial& /*trial*/, bool kept) {
+  Verdict v;
+  if (!kept) {
+    v.next = Verdict::Next::kFailed;
+    v.message = "chi2 is not finite after the update";
+  }
+  return v;
+}
+
+StrategyReport GaussNewton::report() const { return {"gauss-newton", "", {}}; }
 
 std::unique_ptr<StepStrategy> makeStepStrategy(Algorithm algorithm) {
   switch (algorithm) {

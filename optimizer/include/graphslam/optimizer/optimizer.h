@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graphslam/core/graph.h"
@@ -57,31 +58,40 @@ struct TimeSplit {
   TimeSplit& operator+=(const TimeSplit& o);
 };
 
+/// What the step strategy reports of one iteration: the kind of step it took and its own
+/// figures (damping, trust radius, conjugate-gradient iterations, ...), by name. Each
+/// strategy documents its names; the optimizer does not read them.
+struct StrategyReport {
+  /// The step taken: "gauss-newton", "chord", "first-step dogleg", "dogleg",
+  /// "levenberg-marquardt"; empty when none was.
+  std::string step;
+  /// One line on the step for progress output ("chord step: previous factorisation, 6 CG
+  /// iterations"); empty for a plain step.
+  std::string note;
+  std::vector<std::pair<std::string, double>> values;  ///< e.g. {"lambda", 1e-5}
+
+  /// The value of `name`, or `otherwise` when the strategy did not report it.
+  [[nodiscard]] double value(const std::string& name, double otherwise = 0.0) const;
+  /// "name=value;name=value" (the shortest decimal form of each value).
+  [[nodiscard]] std::string valuesText() const;
+};
+
 /// One outer iteration (one linearisation).
 struct IterationStats {
   int iteration = 0;       ///< 1-based
   double chi2 = 0.0;       ///< after the iteration's (accepted) step
-  double lambda = 0.0;     ///< damping used by the accepted step (0 for Gauss-Newton)
   double step_norm = 0.0;  ///< Euclidean norm of the accepted update
-  /// Factorisations this iteration (LM retries on rejection); 0 for a chord step, which
-  /// reused the previous Gauss-Newton step's factorisation.
-  int attempts = 1;
-  /// Conjugate-gradient iterations of a chord step (each one solve with the previous
-  /// factorisation); 0 otherwise.
-  int cg_iterations = 0;
-  /// First iteration's dogleg step (Options::first_step_dogleg): its trust radius was
-  /// the Gauss-Newton step's length / 2^dogleg_halvings; 0 otherwise.
-  int dogleg_halvings = 0;
-  /// Points of that dogleg path whose chi2 was evaluated (the first may already be at a
-  /// quarter of the Gauss-Newton step); 0 without a dogleg step.
-  int dogleg_trials = 0;
-  /// Trust radius of the dogleg algorithm's step (D-norm, D = diag(H)); 0 otherwise.
-  double trust_radius = 0.0;
-  bool accepted = true;  ///< false when LM found no decreasing step
+  /// Numeric factorisations this iteration: every factorisation a strategy asked for (LM's
+  /// retries with more damping among them); 0 for a step that reused an earlier one.
+  int factorizations = 0;
+  /// Steps the evaluator tried (applied and scored) this iteration.
+  int trials = 0;
+  bool accepted = true;  ///< false when no step was kept
   /// The iteration factorised the undamped H successfully (Gauss-Newton, a chord step on
   /// such a factorisation, dogleg's unregularised Gauss-Newton point): H was positive
   /// definite there. Never for Levenberg-Marquardt, whose H is damped.
   bool undamped = false;
+  StrategyReport strategy;  ///< the step strategy's own figures
   TimeSplit time;
   double elapsed = 0.0;  ///< since optimize() started
 };
