@@ -79,16 +79,9 @@ Verdict Dogleg::update(StepContext& ctx, const Trial& trial, bool kept) {
     return v;
   }
   radius_ = o.shrink_factor * step;
-  if (!(trial.predicted > ctx.options.function_tolerance * ctx.cost)) {
-    v.next = Verdict::Next::kConverged;  // the model promises no real decrease
-    v.message = "no further decrease possible";
-  } else if (trials_ > ctx.options.max_rejections) {
-    v.next = Verdict::Next::kNoProgress;
-    v.message = "no decreasing step after " + std::to_string(trials_) + " trials";
-  } else {
-    v.next = Verdict::Next::kRetry;
-  }
-  return v;
+  Verdict rejected = rejectedStep(ctx, trial, trials_, "trials");
+  rejected.undamped = v.undamped;
+  return rejected;
 }
 
 StrategyReport Dogleg::report() const {

@@ -61,6 +61,20 @@ StepResult fromProposal(const Proposal& p, double cost) {
 
 }  // namespace
 
+Verdict rejectedStep(const StepContext& ctx, const Trial& trial, int attempts, const char* what) {
+  Verdict v;
+  if (!(trial.predicted > ctx.options.function_tolerance * ctx.cost)) {
+    v.next = Verdict::Next::kConverged;  // the model promises no real decrease
+    v.message = "no further decrease possible";
+  } else if (attempts > ctx.options.max_rejections) {
+    v.next = Verdict::Next::kNoProgress;
+    v.message = "no decreasing step after " + std::to_string(attempts) + " " + what;
+  } else {
+    v.next = Verdict::Next::kRetry;
+  }
+  return v;
+}
+
 bool StepStrategy::keeps(StepContext& /*ctx*/, const Trial& trial) {
   return trial.finite() && trial.after < trial.before;
 }

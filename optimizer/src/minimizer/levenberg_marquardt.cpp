@@ -71,19 +71,11 @@ Verdict LevenbergMarquardt::update(StepContext& ctx, const Trial& trial, bool ke
     nu_ = 2.0;
     return v;
   }
-  if (!(trial.predicted > o.function_tolerance * ctx.cost)) {
-    v.next = Verdict::Next::kConverged;  // the model promises no real decrease
-    v.message = "no further decrease possible";
-    return v;
+  v = rejectedStep(ctx, trial, attempts_, "attempts");
+  if (v.next == Verdict::Next::kRetry) {
+    lambda_ *= nu_;
+    nu_ *= 2.0;
   }
-  if (attempts_ > o.max_rejections) {
-    v.next = Verdict::Next::kNoProgress;
-    v.message = "no decreasing step after " + std::to_string(attempts_) + " attempts";
-    return v;
-  }
-  lambda_ *= nu_;
-  nu_ *= 2.0;
-  v.next = Verdict::Next::kRetry;
   return v;
 }
 

@@ -81,6 +81,13 @@ struct Verdict {
   return v;
 }
 
+/// The verdict on a rejected step of a trust-region strategy (LM, dogleg): converged when
+/// the model promises no meaningful decrease (below function_tolerance of the objective),
+/// no progress after more than max_rejections `attempts` (named `what` in the message),
+/// else retry.
+[[nodiscard]] Verdict rejectedStep(const StepContext& ctx, const Trial& trial, int attempts,
+                                   const char* what);
+
 /// How an iteration ended, for the optimizer's loop.
 struct StepResult {
   enum class Kind { kAccepted, kRestarted, kConverged, kNoProgress, kFailed };
