@@ -9,8 +9,9 @@
 #         which brings these sanitizers); ctest -L unit, -L cli (not the dataset label: the
 #         public files are what the Release run is for) and -L fuzz (every harness replays
 #         its regression inputs, then fuzzes for GRAPHSLAM_FUZZ_SECONDS, 60 by default).
-#   tsan  ThreadSanitizer build of graphslam_core_tests; ctest -L tsan (the concurrency tests
-#         and the threaded reading, linearisation and observability tests).
+#   tsan  ThreadSanitizer build of the suites that hold the threaded tests (the target
+#         graphslam_tsan_suites of tests/CMakeLists.txt); ctest -L tsan (the concurrency
+#         tests and the threaded reading, linearisation and observability tests).
 # Each stage prints its wall time. Usage: tools/ci_sanitizers.sh [asan|tsan]...  (default both)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,7 +42,7 @@ asan() {
 tsan() {
   timed "tsan configure and build" bash -c "cmake -S . -B build-tsan ${common[*]} \
     -DGRAPHSLAM_SANITIZE=thread -DGRAPHSLAM_BUILD_APPS=OFF > /dev/null && \
-    cmake --build build-tsan -j$jobs --target graphslam_core_tests"
+    cmake --build build-tsan -j$jobs --target graphslam_tsan_suites"
   timed "tsan ctest -L tsan" ctest --test-dir build-tsan -L tsan --output-on-failure
 }
 
