@@ -9,6 +9,7 @@
 #include "graphslam/solvers/process.h"
 #include "graphslam/support/error.h"
 #include "graphslam/support/large_array.h"
+#include "graphslam/support/signal_cleanup.h"
 
 namespace graphslam::apps {
 
@@ -28,6 +29,8 @@ void configureProcess() {
   // Under a file size limit (ulimit -f) a write past it fails with EFBIG, reported with the
   // file's name and the staged outputs removed, instead of SIGXFSZ ending the process.
   std::signal(SIGXFSZ, SIG_IGN);
+  // SIGINT, SIGTERM and SIGHUP remove the temporary files of the outputs being written.
+  support::removeTemporariesOnSignal();
   solvers::installCholmodPrefaultingAllocator();
   solvers::serializeCholmodOpenMp();
   support::setLargeArrayRetention(support::LargeArrayRetention{});

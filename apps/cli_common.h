@@ -4,6 +4,7 @@
 
 #include <boost/program_options.hpp>
 #include <cerrno>
+#include <charconv>
 #include <cstdlib>
 #include <initializer_list>
 #include <iostream>
@@ -89,6 +90,46 @@ T parseChoice(const std::string& option, const std::string& value,
   throw UsageError("--" + option + " must be " + names + ", not '" + value + "'");
 }
 
+/// `text` with its control bytes (an ESC in a file name, say) shown as \xNN, so that a
+/// message never sends a terminal escape sequence; line ends and tabs are kept.
+inline std::string printable(const std::string& text) {
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) {
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+/// po::value(target) with `value` as its default, shown in --help in its shortest exact
+/// form (1e-12, 0.1) rather than boost's 17 digits (9.9999999999999998e-13).
+inline po::typed_value<double>* doubleValue(double* target, double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return po::value(target)->default_value(value, std::string(text, end));
+}
+
+/// Throws UsageError saying why --solver `spec` cannot be used: an unknown solver (the
+/// known ones listed) or an ordering the solver does not offer (its orderings listed).
+inline void checkSolverSpec(const std::string& spec, const SolverRegistry& solvers) {
+  if (solvers.contains(spec)) return;
+  try {
+    (void)solvers.create(spec);
+  } catch (const Error& e) {
+    throw UsageError(std::string("--solver: ") + e.what());
+  }
+  throw UsageError("--solver: unknown solver '" + spec +
+                   "' (graphslam list-solvers shows the known ones)");
+}
+
 inline Algorithm parseAlgorithm(const std::string& value) {
   return parseChoice<Algorithm>("algorithm", value,
                                 {{"auto", Algorithm::kGaussNewtonFallback},
@@ -125,6 +166,7 @@ int cmdDrivebot(const std::vector<std::string>& args);
 int cmdSolvers(const std::vector<std::string>& args);
 int cmdAddOutliers(const std::vector<std::string>& args);
 int cmdSimulate(const std::vector<std::string>& args);
+int cmdCalibrate(const std::vector<std::string>& args);
 int cmdListTypes(const std::vector<std::string>& args);
 int cmdListSolvers(const std::vector<std::string>& args);
 int cmdIncremental(const std::vector<std::string>& args);

@@ -252,7 +252,9 @@ void declareOptions(po::options_description& desc) {
     ("compass-bug", "reproduce the coursework's unwrapped compass error")
     ("compass-fix", "wrap the compass error (the default)")
     ("no-noise", "exact measurements (sensor timing stays random)")
-    ("max-steps", po::value<long>(), "stop after N steps")
+    ("max-steps", po::value<long>(),
+     "stop after N steps (default: 3 times the steps the scenario's path takes at the "
+     "minimum speed, plus 1000; a run that has not reached its last waypoint by then fails)")
     ("remove-prediction-edges", po::value<std::string>(), "none, all or keep-first (before each optimisation)")
     ("prune", po::value<std::string>(), "landmark observations kept: none, every-second (once, on arrival), coursework "
                                         "(halve the graph's at every optimisation), staggered, keyframe")
@@ -330,7 +332,9 @@ void applySlamOptions(const po::variables_map& vm, Setup& setup) {
   if (given(vm, "compass-bug")) slam.compass_wrap_error = false;
   if (given(vm, "compass-fix")) slam.compass_wrap_error = true;
   if (given(vm, "no-noise")) sim.perturb_with_noise = false;
-  if (given(vm, "max-steps")) sim.max_steps = vm["max-steps"].as<long>();
+  if (given(vm, "max-steps")) {
+    sim.max_steps = vm["max-steps"].as<long>();
+    }
   if (given(vm, "remove-prediction-edges")) {
     slam.remove_prediction_edges = parseChoice<PredictionEdgeRemoval>(
         "remove-prediction-edges", vm["remove-prediction-edges"].as<std::string>(),
@@ -367,7 +371,6 @@ void validate(const Setup& setup) {
   if (slam.optimize_every < 0) throw UsageError("--optimize-every must be >= 0");
   if (slam.max_iterations < 1) throw UsageError("--iterations must be at least 1");
   if (setup.run.final_iterations < 0) throw UsageError("--final-iterations must be >= 0");
-  if (sim.max_steps < 1) throw UsageError("--max-steps must be at least 1");
   for (double p : {sim.gps_period, sim.compass_period, sim.laser_period, sim.laser_range}) {
     if (!(p > 0.0)) throw UsageError("sensor periods and the laser range must be positive");
   }
@@ -458,10 +461,7 @@ int cmdDrivebot(const std::vector<std::string>& args) {
 
   Registries reg;
   loadRegistries(reg, {});
-  if (!reg.solvers.contains(setup.slam.optimizer.linear_solver)) {
-    throw UsageError("unknown solver '" + setup.slam.optimizer.linear_solver +
-                     "' (graphslam list-solvers shows the known ones)");
-  }
+  checkSolverSpec(setup.slam.optimizer.linear_solver, reg.solvers);
   const std::string data_dir = given(vm, "data") ? vm["data"].as<std::string>() : defaultDataDir();
   const Scenario scenario = findScenario(setup.scenario, data_dir);
 

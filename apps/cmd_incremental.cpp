@@ -27,7 +27,7 @@ constexpr const char* kIncrementalUsage =
     "                             [--relinearize-threshold X] [--relinearize-skip N]\n"
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
-    "                             [--refine X] [--plugin LIB]...\n"
+    "                             [--refine X] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
     "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
@@ -44,6 +44,7 @@ struct IncrementalCliOptions {
   std::string input, output, stats, plot;
   std::vector<std::string> plugins;
   int check_every = 0;
+  bool quiet = false;  ///< -q: the summary only, without the input's description
   incremental::ReplayOptions replay;
 };
 
@@ -59,7 +60,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "eliminated columns, full rebuild, chi2 (and the checks')")(
       "plot", po::value(&o.plot), "draw the per-step time (log scale) and chi2 into this PNG")(
       "relinearize-threshold",
-      po::value(&opt.relinearize_threshold)->default_value(opt.relinearize_threshold),
+      doubleValue(&opt.relinearize_threshold, opt.relinearize_threshold),
       "relinearise a vertex when an entry of its step from its linearisation point exceeds "
       "this (metres, radians)")(
       "relinearize-skip", po::value(&opt.relinearize_skip)->default_value(opt.relinearize_skip),
@@ -70,17 +71,18 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "threshold are relinearised at the next update that checks (1: iSAM2's one solve per "
       "update, relinearising at its start)")(
       "backsubstitution-fraction",
-      po::value(&opt.backsubstitution_fraction)->default_value(opt.backsubstitution_fraction),
+      doubleValue(&opt.backsubstitution_fraction, opt.backsubstitution_fraction),
       "back-substitution keeps a vertex's new step only when it differs from the old by more "
       "than this fraction of the relinearisation threshold (iSAM2's wildfire; 0: always)")(
       "check-every", po::value(&o.check_every)->default_value(0),
       "every N steps, compare the estimates with a batch solve of the same graph (outside the "
       "timed part; 0: never)")(
-      "refine", po::value(&o.replay.refine_threshold)->default_value(1e-6),
+      "refine", doubleValue(&o.replay.refine_threshold, 1e-6),
       "after the last step, relinearise every vertex whose step exceeds this and solve again "
       "until none does (the optimizer's refine(); timed apart; 0: off)")(
       "plugin", po::value(&o.plugins)->composing(),
-      "load types from this shared library (repeatable)");
+      "load types from this shared library (repeatable)")(
+      "quiet,q", "print only the summary (not the input's description and notes)");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
@@ -89,6 +91,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
     return false;
   }
   if (o.input.empty()) throw UsageError("incremental needs an input file IN.g2o");
+  o.quiet = vm.count("quiet") != 0;
   if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
   }
@@ -253,9 +256,11 @@ int cmdIncremental(const std::vector<std::string>& args) {
         "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
   }
   LoadedInput in = loadInput(o.input, reg);
-  std::printf("%s: %s, %zu vertices, %zu edges\n", o.input.c_str(), in.description.c_str(),
-              in.graph.numVertices(), in.graph.numEdges());
-  for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
+  if (!o.quiet) {
+    std::printf("%s: %s, %zu vertices, %zu edges\n", o.input.c_str(), in.description.c_str(),
+                in.graph.numVertices(), in.graph.numEdges());
+    for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
+  }
   std::vector<StepCheck> checks;
   if (o.check_every > 0) {
     o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {

@@ -12,6 +12,7 @@
 #include "graphslam/support/file_util.h"
 #include "input.h"
 #include "observability_check.h"
+#include "output_set.h"
 #include "plotting.h"
 
 namespace graphslam::apps {
@@ -71,13 +72,16 @@ int cmdInfo(const std::vector<std::string>& args) {
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam info IN.g2o|IN.npz [--plot-hessian FILE.png] [--plot-graph FILE.png]\n"
-        "                      [--information MODE]\n"
+        "                      [--information MODE] [--plugin LIB]...\n"
         "Counts per type, connected components, fixed vertices, the vertices the edges do not\n"
         "determine (with the reason), the sparsity of H and a picture of the factor graph.",
         desc);
     return kExitOk;
   }
   if (input.empty()) throw UsageError("info needs an input file");
+  // Checked before any work: neither picture may be the input or the other picture (each
+  // is written in place by its own writer, atomically).
+  const OutputSet checked({plot, plot_graph}, {input});
   Registries reg;
   loadRegistries(reg, plugins);
   InputOptions input_options;

@@ -45,7 +45,7 @@ bool parseAddOutliers(const std::vector<std::string>& args, AddOutliersOptions& 
       "count", po::value(&w.count), "exactly this many wrong closures")(
       "seed", po::value(&w.seed)->default_value(w.seed), "random seed")(
       "list", po::value(&o.list), "write the wrong edges' lines in OUT and vertex ids here")(
-      "translation-range", po::value(&w.translation_range)->default_value(w.translation_range),
+      "translation-range", doubleValue(&w.translation_range, w.translation_range),
       "half-width (m) of the measurements' translation box; 0: from the poses' extent")(
       "plugin", po::value(&o.plugins)->composing(), "load types from this shared library");
   po::positional_options_description pos;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // graphslam simulate: a seeded Manhattan-world graph or 3D pose graph and its ground truth.
+#include <cmath>
 #include <unistd.h>
 
 #include <cstdio>
@@ -146,6 +147,7 @@ int simulate2d(const simulation::ManhattanOptions& sim, const std::string& outpu
 
 int cmdSimulate(const std::vector<std::string>& args) {
   std::string output, truth, shape3d;
+  double noise_scale = 1.0;
   simulation::ManhattanOptions sim;
   po::options_description desc("options");
   desc.add_options()("help,h", "show this help")("output,o", po::value(&output),
@@ -156,6 +158,9 @@ int cmdSimulate(const std::vector<std::string>& args) {
       "seed", po::value(&sim.seed)->default_value(sim.seed), "random seed")(
       "world-size", po::value(&sim.world_size)->default_value(0),
       "side of the square world in grid cells (0: automatic)")(
+      "noise-scale", po::value(&noise_scale)->default_value(1.0),
+      "multiply every noise standard deviation (odometry, loop closures, landmarks; 2D and "
+      "3D) by this; the edges' information follows")(
       "3d", po::value(&shape3d),
       "an SE(3) pose graph instead: sphere (rings of poses, loop closures between rings) or "
       "grid (a snake through a cubic lattice, loop closures to lattice neighbours); "
@@ -164,7 +169,7 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (vm.count("help")) {
     printHelp(
         "usage: graphslam simulate -o OUT.g2o [--truth GT.g2o] [--poses N] [--landmarks L] [--seed "
-        "S] [--3d sphere|grid]\n"
+        "S] [--3d sphere|grid] [--noise-scale F]\n"
         "Writes a seeded synthetic Manhattan-world pose graph, optionally with landmarks, or a "
         "3D pose graph.",
         desc);
@@ -174,6 +179,12 @@ int cmdSimulate(const std::vector<std::string>& args) {
   if (sim.num_poses < 2) throw UsageError("--poses must be at least 2");
   if (sim.num_landmarks < 0) throw UsageError("--landmarks must be at least 0");
   if (sim.world_size < 0) throw UsageError("--world-size must be at least 0 (0: automatic)");
+  if (!(noise_scale > 0.0) || !std::isfinite(noise_scale)) {
+    throw UsageError("--noise-scale must be a positive finite number");
+  }
+  sim.sigma_xy *= noise_scale;
+  sim.sigma_theta *= noise_scale;
+  sim.sigma_landmark *= noise_scale;
   if (!truth.empty() && truth == output) {
     throw UsageError("--truth and -o name the same file, " + output);
   }
@@ -183,6 +194,8 @@ int cmdSimulate(const std::vector<std::string>& args) {
   simulation::PoseGraph3dOptions o3d;
   if (is3d) {
     o3d = options3d(shape3d, sim);
+    o3d.sigma_translation *= noise_scale;
+    o3d.sigma_rotation *= noise_scale;
   } else {
     checkSimulationSize(sim);
   }

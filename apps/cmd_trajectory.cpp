@@ -160,7 +160,7 @@ void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
       "align-origin", "align the first poses")("n-to-align",
                                                po::value(&o.n_to_align)->default_value(-1),
                                                "use only the first N poses for alignment")(
-      "t-max-diff", po::value(&o.t_max_diff)->default_value(0.01),
+      "t-max-diff", doubleValue(&o.t_max_diff, 0.01),
       "maximum timestamp difference for association (s)")(
       "t-offset", po::value(&o.t_offset)->default_value(0.0),
       "offset added to the estimate's timestamps (s)")(
@@ -376,14 +376,26 @@ int cmdEval(const std::vector<std::string>& args) {
           "$GRAPHSLAM_PYTHON, /usr/bin/python3, python3)");
     }
   }
+  // Plugins (GRAPHSLAM_PLUGIN_PATH) are loaded only to read a graph: trajectories need none,
+  // and a broken plugin library does not stop their evaluation.
   Registries reg;
-  loadRegistries(reg, {});
+  host::registerBuiltins(reg);
+  if (trajectoryFormat(o.ref_path, o.ref_format) == "g2o" ||
+      trajectoryFormat(o.est_path, o.est_format) == "g2o") {
+    host::loadPlugins(reg, {});
+  }
   const Trajectory ref = loadTrajectory(o.ref_path, o.ref_format, reg);
   const Trajectory est = loadTrajectory(o.est_path, o.est_format, reg);
   std::vector<Trajectory> extra;  // --plot-with, read before the work
   for (const auto& path : o.plot_with) extra.push_back(loadTrajectory(path, "auto", reg));
   const bool kitti = trajectoryFormat(o.ref_path, o.ref_format) == "kitti" ||
                      trajectoryFormat(o.est_path, o.est_format) == "kitti";
+  if (kitti && ref.size() != est.size()) {
+    throw InputError("KITTI trajectories have no timestamps to pair their poses by, so both "
+                     "need the same number of poses: " + o.ref_path + " has " +
+                     std::to_string(ref.size()) + ", " + o.est_path + " has " +
+                     std::to_string(est.size()));
+  }
   const AlignmentOptions align = alignmentOf(o);
   const PoseRelation rel = parseRelation(o.relation);
   const EvalResult e = evaluate(o, ref, est, align, rel, !kitti);

@@ -149,8 +149,8 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "output,o", po::value(&o.output), "write the optimised graph here (atomically)")(
       "iterations,i", po::value(&o.iterations)->default_value(100), "maximum iterations")(
       "algorithm", po::value(&o.algorithm)->default_value("auto"),
-      "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton) or lm "
-      "(Levenberg-Marquardt)")("solver", po::value(&o.solver)->default_value("auto"),
+      "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton), lm "
+      "(Levenberg-Marquardt) or dogleg (Powell's dogleg in a trust region)")("solver", po::value(&o.solver)->default_value("auto"),
                                "linear solver (see graphslam list-solvers)")(
       "plugin", po::value(&o.plugins)->composing(),
       "load types/solvers from this shared library (repeatable)")(
@@ -175,16 +175,16 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "threads", po::value(&options.threads)->default_value(options.threads),
       "threads reading a .g2o file and evaluating errors and Jacobians (the result is the "
       "same for every count)")(
-      "step-tolerance", po::value(&options.step_tolerance)->default_value(options.step_tolerance),
+      "step-tolerance", doubleValue(&options.step_tolerance, options.step_tolerance),
       "converged when the Euclidean norm of the update is below this")(
       "function-tolerance",
-      po::value(&options.function_tolerance)->default_value(options.function_tolerance),
+      doubleValue(&options.function_tolerance, options.function_tolerance),
       "converged when chi2 falls by less than this fraction (0: off)")(
       "lambda-init",
-      po::value(&options.initial_lambda_factor)->default_value(options.initial_lambda_factor),
+      doubleValue(&options.initial_lambda_factor, options.initial_lambda_factor),
       "LM initial damping factor")(
       "lambda-decrease",
-      po::value(&options.min_lambda_decrease)->default_value(options.min_lambda_decrease),
+      doubleValue(&options.min_lambda_decrease, options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
       "first-step", po::value(&o.first_step)->default_value("dogleg"),
       "default algorithm, when the first Gauss-Newton step raises chi2: dogleg (a dogleg "
@@ -251,10 +251,7 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
 
 /// Checks --solver and --marginals-tag against the registries.
 void checkRegistered(const OptimizeOptions& o, const Registries& reg) {
-  if (!reg.solvers.contains(o.solver)) {
-    throw UsageError("unknown solver '" + o.solver +
-                     "' (graphslam list-solvers shows the known ones)");
-  }
+  checkSolverSpec(o.solver, reg.solvers);
   if (!o.marginals_tag.empty()) {
     const auto* entry = reg.types.find(o.marginals_tag);
     if (o.marginals_file.empty()) throw UsageError("--marginals-tag needs --marginals FILE");
@@ -474,23 +471,24 @@ extern "C" __attribute__((visibility("default"))) int graphslam_tool_run(int arg
     if (command == "solvers") return cmdSolvers(args);
     if (command == "add-outliers") return cmdAddOutliers(args);
     if (command == "incremental") return cmdIncremental(args);
-    std::cerr << "graphslam: unknown command '" << command << "'\n\n" << kMainUsage;
+    if (command == "calibrate") return cmdCalibrate(args);
+    std::cerr << "graphslam: unknown command '" << printable(command) << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {
-    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command
-              << " --help)\n";
+    std::cerr << "graphslam " << command << ": " << printable(e.what()) << " (see graphslam "
+              << command << " --help)\n";
     return kExitBadInput;
   } catch (const UsageError& e) {
-    std::cerr << "graphslam " << command << ": " << e.what() << " (see graphslam " << command
-              << " --help)\n";
+    std::cerr << "graphslam " << command << ": " << printable(e.what()) << " (see graphslam "
+              << command << " --help)\n";
     return kExitBadInput;
   } catch (const Error& e) {
-    std::cerr << "graphslam " << command << ": " << e.what() << "\n";
+    std::cerr << "graphslam " << command << ": " << printable(e.what()) << "\n";
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     exitOutOfMemory(command);
   } catch (const std::exception& e) {
-    std::cerr << "graphslam " << command << ": internal error: " << e.what() << "\n";
+    std::cerr << "graphslam " << command << ": internal error: " << printable(e.what()) << "\n";
     return kExitFailed;
   }
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "outlier_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "graphslam/outliers/robust_init.h"
 #include "graphslam/support/file_util.h"
 #include "graphslam/support/logging.h"
+#include "graphslam/types_slam2d/edge_se2.h"
 
 namespace graphslam::apps {
 
@@ -23,9 +25,9 @@ void declareOutlierOptions(po::options_description& desc, OutlierCliOptions& o) 
       "outliers", po::value(&o.outliers_file),
       "with --reject-outliers: write one line per rejected edge here (its line in IN, its "
       "vertex ids, its chi2 at the end of the GNC)")(
-      "inlier-probability", po::value(&g.inlier_probability)->default_value(g.inlier_probability),
+      "inlier-probability", doubleValue(&g.inlier_probability, g.inlier_probability),
       "GNC: an edge's threshold is the chi-square quantile of its dimension at this probability")(
-      "gnc-mu-step", po::value(&g.mu_step)->default_value(g.mu_step),
+      "gnc-mu-step", doubleValue(&g.mu_step, g.mu_step),
       "GNC: factor the control parameter mu grows by per step")(
       "gnc-step-iterations",
       po::value(&g.optimizer_iterations_per_step)->default_value(g.optimizer_iterations_per_step),
@@ -121,6 +123,15 @@ bool rejectOutliersForOptimize(Graph& graph, const SolverRegistry& solvers,
   // The optimizer's notes (the gauge it fixes) would repeat at every step.
   support::setLogLevel(support::LogLevel::kWarning);
   if (o.global_start) {
+    const bool planar = std::any_of(graph.edges().begin(), graph.edges().end(), [](const auto& e) {
+      return dynamic_cast<const types_slam2d::EdgeSE2*>(e.get()) != nullptr;
+    });
+    if (!planar) {
+      throw UsageError(
+          "--reject-outliers with --gnc-init robust (the default) places 2D pose graphs "
+          "(EDGE_SE2) only, and this graph has none; --gnc-init known-inliers rejects on any "
+          "graph, starting from the odometry");
+    }
     const auto init_solver = solvers.create("auto");
     outliers::GlobalStartReport start;
     result = outliers::rejectFromGlobalStart(graph, solvers, init_solver.get(), o.gnc, &start);

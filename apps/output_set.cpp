@@ -137,6 +137,7 @@ OutputSet::OutputSet(std::vector<std::string> paths, const std::vector<std::stri
     removeStaleTemporaries(dir, name.string());
     staged_.push_back(
         (dir / (".graphslam-" + std::to_string(::getpid()) + "-" + name.string())).string());
+    on_signal_.push_back(std::make_unique<support::TemporaryFile>(staged_.back()));
   }
 }
 

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "graphslam/support/signal_cleanup.h"
 
 namespace graphslam::apps {
 
@@ -38,6 +41,8 @@ class OutputSet {
  private:
   std::vector<std::string> paths_;
   std::vector<std::string> staged_;
+  /// The staged files, removed on SIGINT/SIGTERM/SIGHUP (support/signal_cleanup.h).
+  std::vector<std::unique_ptr<support::TemporaryFile>> on_signal_;
   bool done_ = false;
 };
 

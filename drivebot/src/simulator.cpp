@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "graphslam/support/error.h"
 #include "graphslam/types_slam2d/se2.h"
@@ -90,6 +91,7 @@ Simulator::Simulator(Scenario scenario, SimulatorConfig config)
   for (double period : {config_.gps_period, config_.compass_period, config_.laser_period}) {
     if (!(period > 0.0)) throw Error("simulator: sensor periods must be positive");
   }
+  step_limit_ = config_.max_steps > 0 ? config_.max_steps : automaticStepLimit();
   odometry_sqrt_ = choleskyFactor<3>(config_.odometry_covariance, "odometry");
   gps_sqrt_ = choleskyFactor<2>(config_.gps_covariance, "GPS");
   start();
@@ -112,9 +114,42 @@ void Simulator::start() {
   if (config_.enable_odometry) queue_.insert(odometryEvent());
 }
 
-bool Simulator::keepRunning() const { return running_ && truth_.step < config_.max_steps; }
+bool Simulator::keepRunning() const { return running_ && truth_.step < step_limit_; }
+
+long Simulator::automaticStepLimit() const {
+  const Eigen::Vector2d start =
+      config_.start_at_scenario_x0 ? Eigen::Vector2d(scenario_.x0.head<2>()) : Eigen::Vector2d::Zero();
+  double length = 0.0;
+  Eigen::Vector2d from = start;
+  for (const Eigen::Vector2d& wp : scenario_.waypoints) {
+    length += (wp - from).norm();
+    from = wp;
+  }
+  const double steps = config_.path_step_factor * length /
+                           (std::max(config_.min_speed, 1e-3) * config_.dt) +
+                       static_cast<double>(config_.path_step_slack);
+  if (!(steps <= static_cast<double>(config_.max_automatic_steps))) {
+    std::ostringstream msg;
+    msg << "scenario '" << scenario_.name << "' (" << scenario_.source << "): its path through "
+        << scenario_.waypoints.size() << " waypoints is " << length << " m long, about "
+        << steps << " steps, more than the " << config_.max_automatic_steps
+        << " a run may take without --max-steps (a waypoint too far away?)";
+    throw InputError(msg.str());
+  }
+  return static_cast<long>(steps);
+}
 
 void Simulator::step() {
+  if (config_.max_steps <= 0 && truth_.step + 1 >= step_limit_ && running_) {
+    const Eigen::Vector2d& wp = scenario_.waypoints[truth_.waypoint_index];
+    std::ostringstream msg;
+    msg << "scenario '" << scenario_.name << "': the vehicle has not reached waypoint "
+        << truth_.waypoint_index + 1 << " of " << scenario_.waypoints.size() << " (" << wp[0]
+        << ", " << wp[1] << ") after " << step_limit_ << " steps, " << config_.path_step_factor
+        << " times what its path takes at the minimum speed; it looks unreachable (--max-steps "
+           "sets the bound)";
+    throw InputError(msg.str());
+  }
   ++truth_.step;
   queue_.clear();
 

@@ -1,7 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/host/registries.h"
 
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
+
 #include "graphslam/drivebot/scenario.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 #include "graphslam/io/register.h"
 #include "graphslam/robust/register.h"
 #include "graphslam/solvers/options.h"
@@ -22,6 +28,14 @@ PluginHost Registries::pluginHost() {
   return host;
 }
 
+std::shared_ptr<const solvers::CostModel> calibrationFromEnvironment() {
+  const char* path = std::getenv(kCalibrationVariable);
+  if (!path || !*path) return nullptr;
+  std::ifstream in(path);
+  if (!in) throw InputError(support::cannotOpenMessage(path, errno) + " (" + kCalibrationVariable + ")");
+  return std::make_shared<const solvers::CostModel>(solvers::CostModel::read(in, path));
+}
+
 void registerBuiltins(Registries& registries) {
   const PluginHost host = registries.pluginHost();
   const auto once = [&](const char* module, const auto& register_module) {
@@ -39,6 +53,7 @@ void registerBuiltins(Registries& registries) {
     // pose graph once.
     solvers::SolverOptions options;
     options.ordering_cache = std::make_shared<solvers::OrderingCache>();
+    options.auto_solver.cost_model = calibrationFromEnvironment();
     solvers::registerSolvers(registries.solvers, options);
   });
   once("io", [&] { io::registerFormats(registries.formats); });

@@ -104,9 +104,11 @@ void LineParser::parseLine(const std::vector<std::string_view>& tokens, ParsedLi
     for (std::size_t i = 0; i + 1 < expected; ++i)
       values_[i] = parseDouble(tokens[i + 2], i + 2, tag);
     v->setId(id);
-    v->setEstimateData(values_.data());
     // Reported after the duplicate-id check (at commit), as a serial reader would.
-    out.error = refusal(tag, [&] { v->setParameterData(values_.data() + est); });
+    out.error = refusal(tag, [&] { v->setEstimateData(values_.data()); });
+    if (out.error.empty()) {
+      out.error = refusal(tag, [&] { v->setParameterData(values_.data() + est); });
+    }
     out.vertex = std::move(v);
     out.tag = &entry->tag;
     return;
@@ -177,9 +179,11 @@ void LineParser::parseEdge(const std::vector<std::string_view>& tokens,
   if (out.indefinite) {
     out.error = tag + ": information matrix is not positive definite";
   } else {
-    e->setMeasurementData(values_.data());
-    out.error =
-        refusal(tag, [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
+    out.error = refusal(tag, [&] { e->setMeasurementData(values_.data()); });
+    if (out.error.empty()) {
+      out.error = refusal(
+          tag, [&] { e->setParameterData(values_.data() + e->measurementDataDimension()); });
+    }
     e->setInformationData(omega.data());
   }
   out.edge = std::move(e);

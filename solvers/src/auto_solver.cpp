@@ -177,7 +177,7 @@ class AutoSolver final : public LinearSolver {
   /// The ordering and the backend chosen from H's pattern.
   struct Plan {
     ChosenOrdering chosen;
-    bool blocks = false;      // vertices of 2 or 3 dimensions: fixed-size block kernels
+    bool blocks = false;      // block-llt: fixed-size block kernels
     bool supernodal = false;  // CHOLMOD's supernodal factorisation
   };
   /// Whether two structures are the same arrays (a plan made for one holds for the other).
@@ -190,19 +190,12 @@ class AutoSolver final : public LinearSolver {
     // Small systems are not predicted exactly here: name() asks the backend's analysis.
     plan_.chosen =
         detail::chooseOrdering(s, g, options_.auto_solver, ordering_cache_.get(), /*exact=*/false);
-    // Fixed-size blocks pay for vertices of 2 to 6 dimensions (2D and 3D SLAM); scalar
-    // systems (1x1 blocks) would only be padded.
-    const int block_size = maxBlockSize(s);
-    plan_.blocks = block_size >= 2 && block_size <= 6;
-#ifdef GRAPHSLAM_HAVE_CHOLMOD
-    const AutoSolverOptions& o = options_.auto_solver;
-    const double threshold = plan_.blocks      ? o.block_supernodal_flops
-                             : block_size >= 4 ? o.wide_block_supernodal_flops
-                                               : o.supernodal_flops;
-    plan_.supernodal = plan_.chosen.prediction.flops > threshold;
-#else
-    plan_.supernodal = false;
-#endif
+    // The backend the cost model predicts fastest for this system.
+    const detail::BackendChoice c =
+        detail::fastestBackend(detail::costModel(options_.auto_solver), maxBlockSize(s), s.n,
+                               plan_.chosen.prediction.flops);
+    plan_.blocks = c.backend == FactorBackend::kBlockLlt;
+    plan_.supernodal = c.backend == FactorBackend::kCholmodSupernodal;
   }
 
   SolverOptions options_;
@@ -243,13 +236,39 @@ ChosenOrdering chooseOrdering(const SparseStructure& s, const AutoSolverOptions&
   return detail::chooseOrdering(s, detail::blockGraph(s), options, nullptr);
 }
 
+const CostModel& detail::costModel(const AutoSolverOptions& options) {
+  return options.cost_model ? *options.cost_model : CostModel::builtIn();
+}
+
+detail::BackendChoice detail::fastestBackend(const CostModel& model, int block_size, double n,
+                                             double flops) {
+  BackendChoice best{FactorBackend::kEigenLdlt,
+                     model.predict(FactorBackend::kEigenLdlt, block_size, n, flops)};
+  const auto consider = [&](FactorBackend b) {
+    const double seconds = model.predict(b, block_size, n, flops);
+    if (seconds < best.seconds) best = {b, seconds};
+  };
+  if (block_size >= 1 && block_size <= 6) consider(FactorBackend::kBlockLlt);
+#ifdef GRAPHSLAM_HAVE_CHOLMOD
+  consider(FactorBackend::kCholmodSupernodal);
+#endif
+  return best;
+}
+
+// AMD always; METIS beside it when the cost model says the factorisations it may save pay
+// for computing it (a small system never gets that far: AMD's own bound on the work decides
+// without an exact prediction).
 ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph& g,
                                       const AutoSolverOptions& options, OrderingCache* cache,
                                       bool exact) {
+  const CostModel& model = costModel(options);
+  const int d = maxBlockSize(s);
+  const auto seconds = [&](double flops) { return fastestBackend(model, d, s.n, flops).seconds; };
   auto predict = [&](const std::vector<int>& perm) {
     const detail::SymbolicCost c = detail::symbolicCost(s, g, perm);
     return CholeskyPrediction{c.factor_nonzeros, c.flops};
   };
+  const double metis_seconds = model.metis.predict(g.num_blocks, static_cast<double>(g.idx.size()));
   ChosenOrdering chosen;
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
   auto metis = [&] {
@@ -259,8 +278,8 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
     m.prediction = predict(m.perm);
     return m;
   };
-  // Graphs this large always need METIS as well (AMD predicts far more than
-  // try_metis_flops): both orderings are serial codes, so they run side by side.
+  // Graphs this large always need METIS as well: both orderings are serial codes, so they
+  // run side by side.
   std::future<ChosenOrdering> metis_ahead;
   if (g.num_blocks >= options.concurrent_ordering_blocks) {
     metis_ahead = std::async(std::launch::async, metis);
@@ -269,33 +288,31 @@ ChosenOrdering detail::chooseOrdering(const SparseStructure& s, const BlockGraph
   double amd_work = -1.0;
   chosen.perm = detail::orderColumnsAmd(s, g, &amd_work, cache);
   // d^3 sum_j (b_j + 1)^2 bounds the scalar flops (b_j: blocks below the diagonal in
-  // block column j, d: the largest block); with AMD's b_j, a quarter of the threshold
-  // leaves room for its count's error.
-  const double d = maxBlockSize(s);
-  const double bound = d * d * d * amd_work;
-  if (!exact && amd_work >= 0.0 && bound < options.try_metis_flops / 4) {
+  // block column j, d: the largest block).
+  const double bound = static_cast<double>(d) * d * d * amd_work;
+  const bool metis_may_pay = options.expected_factorizations * seconds(bound) > metis_seconds;
+  if (!exact && amd_work >= 0.0 && !metis_may_pay) {
     chosen.prediction = {-1.0, bound};
     return chosen;
   }
   chosen.prediction = predict(chosen.perm);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-  if (metis_ahead.valid() || chosen.prediction.flops > options.try_metis_flops) {
+  if (metis_ahead.valid() ||
+      options.expected_factorizations * seconds(chosen.prediction.flops) > metis_seconds) {
     ChosenOrdering m = metis_ahead.valid() ? metis_ahead.get() : metis();
-    if (chosen.prediction.flops > options.try_metis_flops &&
-        m.prediction.flops < chosen.prediction.flops) {
-      chosen = std::move(m);
-    }
+    if (seconds(m.prediction.flops) < seconds(chosen.prediction.flops)) chosen = std::move(m);
   }
+#else
+  static_cast<void>(metis_seconds);
 #endif
   return chosen;
 }
 
 void registerAutoSolver(SolverRegistry& registry, const SolverOptions& options) {
   registry.registerSolver("auto",
-                          "the default: orders H by AMD or METIS (whichever predicts fewer flops) "
-                          "and factorises with block-llt (vertices of dimension 2-3) or "
-                          "eigen-ldlt, or with supernodal cholmod when the predicted work is "
-                          "large",
+                          "the default: orders H by AMD, or METIS when it pays, and factorises "
+                          "with the backend its cost model predicts fastest (block-llt, "
+                          "eigen-ldlt or supernodal cholmod; graphslam calibrate measures it)",
                           [options] { return std::make_unique<AutoSolver>(options); });
 }
 

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -45,6 +46,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       : ordering_(ordering),
         conformal_(conformal),
         options_(options.isotropic),
+        model_(options.auto_solver.cost_model),
         cholmod_options_(options.cholmod),
         block_options_(options.block_cholesky) {}
 
@@ -118,10 +120,10 @@ class IsotropicSolver final : public detail::OrderedSolver {
     // gets its Schur complement from BLAS, the cheap columns before it (or all columns of
     // a small system) a left-looking loop, without CHOLMOD's supernodal analysis and
     // per-supernode work. It takes B's upper triangle as it is, and declines when its
-    // loop would cost more than supernodal_flops, leaving its elimination tree and
-    // column counts.
+    // loop would cost more than CHOLMOD's supernodal factorisation of the whole (the cost
+    // model's crossing point), leaving its elimination tree and column counts.
     if (!conformal_ && scalar_.nnz() <= options_.tail_probe_entries) {
-      auto tail = std::make_unique<detail::TailCholesky>(options_.supernodal_flops);
+      auto tail = std::make_unique<detail::TailCholesky>(supernodalFrom(nb_));
       if (tail->analyzeOrdered(scalar_, identity, label).ok()) {
         tail_ = tail.get();
         inner_ = std::move(tail);
@@ -139,7 +141,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
       cost = detail::symbolicCostNatural(scalar_, &parent, &counts);
     }
     // A complex multiply-add is four real ones.
-    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > options_.supernodal_flops;
+    const bool supernodal = (conformal_ ? 4.0 : 1.0) * cost.flops > supernodalFrom(nb_);
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
     if (conformal_) {
       inner_ = makeCholmodComplexSolver(supernodal, label, true, cholmod_options_);
@@ -374,6 +376,18 @@ class IsotropicSolver final : public detail::OrderedSolver {
   Ordering ordering_;
   bool conformal_ = false;
   IsotropicSolverOptions options_;
+  /// The flops above which the cost model predicts CHOLMOD's supernodal factorisation of a
+  /// scalar system of n unknowns faster than block-llt's (infinite when never).
+  [[nodiscard]] double supernodalFrom(int n) const {
+    const CostModel& model = model_ ? *model_ : CostModel::builtIn();
+    const CostLine& loop = model.block_llt[0];
+    const CostLine& cholmod = model.cholmod_supernodal;
+    if (loop.per_flop <= cholmod.per_flop) return std::numeric_limits<double>::infinity();
+    const double fixed = cholmod.predict(n, 0.0) - loop.predict(n, 0.0);
+    return std::max(0.0, fixed / (loop.per_flop - cholmod.per_flop));
+  }
+
+  std::shared_ptr<const CostModel> model_;  // of the auto solver's options (null: built in)
   CholmodOptions cholmod_options_;        // of a CHOLMOD inner solver
   BlockCholeskyOptions block_options_;    // of a block-llt inner solver
   std::unique_ptr<detail::OrderedSolver> inner_;

@@ -54,11 +54,25 @@ struct BlockGraph {
 
 /// chooseOrdering() with H's block graph already built (blockGraph(s)), the auto solver's
 /// tuning and its cache of block orderings (may be null). With `exact` false, a small
-/// system (AMD's own bound on the work far below every threshold of the choice) gets no
-/// exact prediction: factor_nonzeros is -1 and flops that bound.
+/// system (METIS cannot pay even at AMD's own bound on the work) gets no exact prediction:
+/// factor_nonzeros is -1 and flops that bound.
 [[nodiscard]] ChosenOrdering chooseOrdering(const SparseStructure& s, const BlockGraph& g,
                                             const AutoSolverOptions& options,
                                             OrderingCache* cache, bool exact = true);
+
+/// The cost model of the auto solver's options (the built-in one when they name none).
+[[nodiscard]] const CostModel& costModel(const AutoSolverOptions& options);
+
+/// A backend and its predicted seconds per factorisation.
+struct BackendChoice {
+  FactorBackend backend = FactorBackend::kEigenLdlt;
+  double seconds = 0.0;
+};
+/// The backend `model` predicts fastest for a system of `n` unknowns whose largest vertex
+/// has `block_size` dimensions and whose factorisation takes `flops`: block-llt (block sizes
+/// 1 to 6), eigen-ldlt, supernodal CHOLMOD (when built with it).
+[[nodiscard]] BackendChoice fastestBackend(const CostModel& model, int block_size, double n,
+                                           double flops);
 
 /// Inverse of a permutation.
 [[nodiscard]] std::vector<int> inversePermutation(const std::vector<int>& perm);

@@ -13,6 +13,7 @@
 #include <istream>
 
 #include "graphslam/support/error.h"
+#include "graphslam/support/signal_cleanup.h"
 
 namespace graphslam::support {
 
@@ -46,6 +47,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
     return;
   }
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const TemporaryFile on_signal(tmp);
   // The system's reason (errno) of the failed call, e.g. "File too large" under a file size
   // limit, "No space left on device" on a full disk.
   const auto reason = [] {

@@ -79,7 +79,7 @@ fsize)
   ;;
 memory)
   "$t" simulate --poses 100000 --seed 5 -o big.g2o > /dev/null || fail simulate big
-  out=$( (ulimit -v 600000 && OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 exec "$t" optimize big.g2o -q -o big_out.g2o) 2>&1); rc=$?
+  out=$( (ulimit -v 250000 && OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 exec "$t" optimize big.g2o -q -o big_out.g2o) 2>&1); rc=$?
   echo "$out" | tail -5
   [ $rc -lt 128 ] || fail "ended by signal $((rc - 128))"
   [ $rc -eq 1 ] || fail "exit $rc, expected 1"

@@ -283,6 +283,37 @@ TEST(DriveBot_Simulator, MaxStepsAndScenarioStart) {
   EXPECT_EQ(from_x0.events()[1].value, Eigen::VectorXd(s.x0));
 }
 
+// Without --max-steps a run is bounded by its scenario's path: every built-in scenario ends
+// well inside the bound, a waypoint too far away is refused before the run, and a run that
+// does not reach its last waypoint within the bound is an error, not a result.
+TEST(DriveBot_Simulator, RunsAreBoundedByTheScenariosPath) {
+  for (const auto& name : builtinScenarioNames()) {
+    Simulator sim(builtinScenario(name), SimulatorConfig{});
+    while (sim.keepRunning()) sim.step();
+    EXPECT_LT(sim.stepCount(), sim.stepLimit() / 2) << name;
+  }
+  Scenario far = builtinScenario("q1_b");
+  far.waypoints.emplace_back(1e12, 0.0);
+  try {
+    Simulator sim(far, SimulatorConfig{});
+    FAIL() << "a waypoint at 1e12 m was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a run may take without --max-steps"), std::string::npos)
+        << e.what();
+  }
+  SimulatorConfig tight;
+  tight.path_step_factor = 0.2;
+  tight.path_step_slack = 0;
+  Simulator sim(builtinScenario("q1_b"), tight);
+  try {
+    while (sim.keepRunning()) sim.step();
+    FAIL() << "the run ended at step " << sim.stepCount() << " without an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has not reached waypoint"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(DriveBot_Scenario, BuiltInScenariosMatchTheCourseworkFiles) {
   const std::string dir = test::dataDir() + "/seeds/comp0130_23-24_cw2_simulations";
   if (!test::fileExists(dir + "/q1_b/wp.txt")) {

@@ -21,6 +21,7 @@
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
+#include "graphslam/types_slam3d/register.h"
 
 using namespace graphslam;
 
@@ -275,4 +276,34 @@ TEST(Io_G2o, MissingFileIsADiagnostic) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.diagnostics[0].str(),
             "/nonexistent/file.g2o: cannot open: No such file or directory");
+}
+
+// A quaternion far from unit norm (zero, denormal, a typo) is refused at its line: normalised,
+// a zero one would drop the rotation term from the error (a ring of four poses reached chi2
+// 0 instead of 1). One written with a few digits is normalised.
+TEST(Io_G2o, QuaternionsFarFromUnitNormAreRefusedAtTheLine) {
+  TypeRegistry types;
+  types_slam3d::registerTypes(types);
+  const std::string v0 = "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n";
+  const std::string info = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
+  const std::pair<std::string, std::string> refused[] = {
+      {v0 + "VERTEX_SE3:QUAT 1 1 0 0 1e-300 0 0 0\n", "f.g2o:2: VERTEX_SE3:QUAT: the quaternion"},
+      {v0 + "VERTEX_SE3:QUAT 1 1 0 0 0 0 0 0\n", "has norm 0, not 1"},
+      {v0 + "VERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\nEDGE_SE3:QUAT 0 1 1 0 0 0 0 0 2" + info,
+       "f.g2o:3: EDGE_SE3:QUAT: the quaternion (qx qy qz qw) = (0 0 0 2) has norm 2"},
+      {"PARAMS_SE3OFFSET 0 0 0 0 0 0 0 0\n", "f.g2o:1: PARAMS_SE3OFFSET: the quaternion"},
+  };
+  for (const auto& [text, expected] : refused) {
+    std::istringstream in(text);
+    const auto res = io::readG2o(in, "f.g2o", types);
+    ASSERT_FALSE(res.ok()) << text;
+    EXPECT_NE(res.diagnostics[0].str().find(expected), std::string::npos)
+        << res.diagnostics[0].str();
+  }
+  std::istringstream rounded(v0 + "VERTEX_SE3:QUAT 1 1 0 0 0 0 0.7071 0.7071\n");
+  const auto res = io::readG2o(rounded, "f.g2o", types);
+  ASSERT_TRUE(res.ok());
+  double data[7];
+  res.graph.vertex(1)->getEstimateData(data);
+  EXPECT_NEAR(data[6], std::sqrt(0.5), 1e-15);
 }

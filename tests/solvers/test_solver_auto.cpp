@@ -24,6 +24,17 @@ using test::GridPattern;
 
 namespace {
 
+/// Solver options whose cost model makes supernodal CHOLMOD the fastest backend for every
+/// system (no fixed cost, almost no cost per flop), to test that path on systems small
+/// enough for a unit test; the measured model sends them to block-llt.
+solvers::SolverOptions supernodalEverywhere() {
+  auto model = std::make_shared<solvers::CostModel>(solvers::CostModel::builtIn());
+  model->cholmod_supernodal = solvers::CostLine{0.0, 0.0, 1e-15};
+  solvers::SolverOptions options;
+  options.auto_solver.cost_model = model;
+  return options;
+}
+
 /// Predicted factor size and work parsed from the auto solver's name after analyze().
 struct AutoChoice {
   std::string backend;
@@ -228,12 +239,13 @@ TEST(Solvers_Auto, IsotropicValuesTakeTheScalarPathAndOthersTheBlockOne) {
 }
 
 // Blocks [a -b; b a] are a Hermitian complex matrix: `auto` factorises it as such (half
-// the flops and memory of the real 2x2 block factor) when the factorisation is large
-// enough for CHOLMOD's supernodal one (on small systems block-llt is faster than CHOLMOD's
-// complex factorisation); a block of another form sends it back to the real factor.
+// the flops and memory of the real 2x2 block factor) when its cost model sends the system
+// to CHOLMOD's supernodal factorisation (here a model that always does; the measured one
+// keeps block-llt up to large systems); a block of another form sends it back to the real
+// factor.
 TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   SolverRegistry registry;
-  solvers::registerSolvers(registry);
+  solvers::registerSolvers(registry, supernodalEverywhere());
   if (!registry.contains("cholmod")) GTEST_SKIP() << "the complex path needs CHOLMOD";
   const GridPattern grid(300);  // 90000 blocks of 2x2
   const GridOfPairs pairs(grid);
@@ -274,14 +286,14 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   std::printf("%s\n", solver->name().c_str());
 }
 
-// A large block system (supernodal CHOLMOD) makes `auto` ask for H in its fill-reducing
-// order, postordered, as the lower triangle: CHOLMOD then factorises H's own arrays. Every
+// A block system the cost model sends to supernodal CHOLMOD makes `auto` ask for H in its
+// fill-reducing order, postordered, as the lower triangle: CHOLMOD then factorises H's own arrays. Every
 // path takes that layout: the complex one (blocks [a -b; b a]), the scalar one (H_s (x) I),
 // and the real block factor; a failed pivot names its column in that order, and a lower
 // triangle given without asking for it is refused.
 TEST(Solvers_Auto, LargeBlockSystemsTakeTheirOrderAsTheLowerTriangleOnEveryPath) {
   SolverRegistry registry;
-  solvers::registerSolvers(registry);
+  solvers::registerSolvers(registry, supernodalEverywhere());
   if (!registry.contains("cholmod")) GTEST_SKIP() << "the supernodal path needs CHOLMOD";
   const GridPattern grid(300);  // 90000 blocks of 2x2
   const GridOfPairs pairs(grid);

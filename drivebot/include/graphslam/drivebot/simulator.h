@@ -17,8 +17,16 @@ namespace graphslam::drivebot {
 /// angles in radians, times in seconds, distances in metres.
 struct SimulatorConfig {
   double dt = 0.1;  ///< simulation step
-  /// Stop after this many steps (the coursework's maximumStepNumber; default: no limit).
-  long max_steps = std::numeric_limits<long>::max();
+  /// Stop after this many steps (the coursework's maximumStepNumber). 0: a bound from the
+  /// scenario, path_step_factor times the steps its path (start, then every waypoint in
+  /// turn) takes at min_speed, plus path_step_slack; a run that has not reached its last
+  /// waypoint by then is an error (an unreachable waypoint), not a result.
+  long max_steps = 0;
+  double path_step_factor = 3.0;  ///< of the automatic bound (max_steps 0)
+  long path_step_slack = 1000;    ///< steps of the automatic bound for turning and slowing
+  /// The automatic bound may not exceed this (a waypoint far away would otherwise grow the
+  /// graph until memory runs out): such a scenario is refused unless max_steps is given.
+  long max_automatic_steps = 2000000;
   double wheelbase = 2.5;
   /// false: every measurement is exact (sensor start times and dither stay random).
   bool perturb_with_noise = true;
@@ -105,8 +113,12 @@ class Simulator {
   void start();
   /// False once the last waypoint is reached or max_steps steps were taken.
   [[nodiscard]] bool keepRunning() const;
-  /// Advances one step and replaces events() with the new step's events.
+  /// Advances one step and replaces events() with the new step's events. Throws
+  /// graphslam::InputError when the automatic step bound (max_steps 0) is reached before
+  /// the last waypoint.
   void step();
+  /// The step bound of this run (max_steps, or the automatic one).
+  [[nodiscard]] long stepLimit() const { return step_limit_; }
 
   /// Events of the current step (after start(): odometry, then the initial condition).
   [[nodiscard]] const std::vector<Event>& events() const { return queue_.events(); }
@@ -134,6 +146,8 @@ class Simulator {
   };
 
   void computeControlInputs();
+  /// The automatic step bound (max_steps 0); throws InputError above max_automatic_steps.
+  [[nodiscard]] long automaticStepLimit() const;
   [[nodiscard]] Event odometryEvent();
   void emitGps();
   void emitCompass();
@@ -146,6 +160,7 @@ class Simulator {
 
   Scenario scenario_;
   SimulatorConfig config_;
+  long step_limit_ = 0;  // max_steps, or the automatic bound
   Eigen::Matrix3d odometry_sqrt_;
   Eigen::Matrix2d gps_sqrt_;
   VehicleTruth truth_;

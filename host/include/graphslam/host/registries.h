@@ -20,6 +20,7 @@
 #include "graphslam/core/robust_kernel.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/io/format_registry.h"
+#include "graphslam/solvers/cost_model.h"
 
 namespace graphslam::host {
 
@@ -42,9 +43,18 @@ struct Registries {
   [[nodiscard]] PluginHost pluginHost();
 };
 
+/// The environment variable naming a calibration file of the auto solver's cost model
+/// (`graphslam calibrate -o FILE`); unset: the built-in model.
+inline constexpr const char* kCalibrationVariable = "GRAPHSLAM_CALIBRATION";
+
+/// The cost model of GRAPHSLAM_CALIBRATION's file, or null when the variable is unset.
+/// Throws graphslam::InputError naming the file when it cannot be read or used.
+[[nodiscard]] std::shared_ptr<const solvers::CostModel> calibrationFromEnvironment();
+
 /// Registers the library's modules: the types of types_slam2d, types_slam3d and
 /// types_drivebot, the robust kernels, every solver of this build (sharing one cache of
-/// block orderings), and the formats of io and drivebot. Each module once: calling it again,
+/// block orderings; auto with the cost model of GRAPHSLAM_CALIBRATION when set), and the
+/// formats of io and drivebot. Each module once: calling it again,
 /// or loading a module's plugin afterwards, registers nothing more.
 void registerBuiltins(Registries& registries);
 

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <memory>
 
+#include "graphslam/solvers/cost_model.h"
+
 namespace graphslam::solvers {
 
 /// Tuning of an OrderingCache.
@@ -44,23 +46,18 @@ class OrderingCache {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Tuning of the "auto" solver's choice of ordering and backend.
+/// Tuning of the "auto" solver's choice of ordering and backend. Both follow one cost model
+/// of the factorisation (cost_model.h), measured by `graphslam calibrate`: auto takes the
+/// backend the model predicts fastest for the system (block-llt for vertices of 2 to 6
+/// dimensions, eigen-ldlt, supernodal CHOLMOD), and computes METIS beside AMD when the
+/// predicted saving over the factorisations of an optimisation pays for it.
 struct AutoSolverOptions {
-  /// Above this many predicted flops (sum over columns of the squared column counts of
-  /// L) a scalar system is factorised by CHOLMOD's supernodal Cholesky (dense BLAS on the
-  /// fronts, BLAS threads) instead of the simplicial eigen-ldlt.
-  double supernodal_flops = 2e9;
-  /// The same for systems of 2x2 to 6x6 blocks, against block-llt: its fixed-size kernels
-  /// stay ahead of CHOLMOD up to a smaller size than eigen-ldlt does.
-  double block_supernodal_flops = 1e9;
-  /// The same for systems with vertices of more than 6 dimensions, against eigen-ldlt:
-  /// their dense blocks make wide supernodes from the start, where CHOLMOD's BLAS fronts
-  /// beat the simplicial factorisation early.
-  double wide_block_supernodal_flops = 1e7;
-  /// Above this many predicted flops with AMD, METIS is computed as well and taken when it
-  /// predicts fewer: it costs about as much as a factorisation of a few 1e7 flops and pays
-  /// only on larger graphs.
-  double try_metis_flops = 2e8;
+  /// The model; null: the built-in one (CostModel::builtIn()).
+  std::shared_ptr<const CostModel> cost_model;
+  /// Factorisations one ordering serves, for weighing METIS's cost against the saving per
+  /// factorisation it predicts (an optimisation of a pose graph takes 3-10 Gauss-Newton
+  /// factorisations; the initial guess's two systems one each).
+  double expected_factorizations = 5.0;
   /// From this many blocks on, METIS is computed on a second thread while AMD runs (both
   /// are serial codes, and graphs this large always need METIS as well).
   int concurrent_ordering_blocks = 200000;
@@ -92,13 +89,11 @@ struct CholmodOptions {
 /// Tuning of the isotropic and conformal paths (H = H_s (x) I_d, and 2x2 blocks
 /// [a -b; b a] factorised as one Hermitian complex matrix).
 struct IsotropicSolverOptions {
-  /// Above this many predicted flops of the scalar factorisation, CHOLMOD's supernodal
-  /// factorisation takes it (a few dense landmark columns seen from every pose make the
-  /// factor's trailing part dense); below, block-llt's up-looking LL^T on 1x1 blocks,
-  /// which has no per-supernode overhead, works on the arrays as they are and names the
-  /// column of a failed pivot. With BLAS and LAPACK, tail-llt goes first, up to this many
-  /// flops in its loop (beside a dense tail's BLAS work).
-  double supernodal_flops = 2e6;
+  /// The scalar factorisation goes to CHOLMOD's supernodal factorisation where the cost
+  /// model (AutoSolverOptions::cost_model) predicts it faster than block-llt's up-looking
+  /// LL^T on 1x1 blocks, which has no per-supernode overhead, works on the arrays as they
+  /// are and names the column of a failed pivot. With BLAS and LAPACK, tail-llt goes first,
+  /// while the work its loop would do stays below the cost model's crossing point.
   /// Up to this many stored entries of H_s, tail-llt's analysis decides whether it
   /// factorises (its row patterns are the symbolic analysis every path needs); beyond,
   /// where a dense tail cannot hold most of the work, it is not tried.

@@ -24,8 +24,8 @@ struct CholeskyPrediction {
 [[nodiscard]] CholeskyPrediction predictCholesky(const SparseStructure& s,
                                                  const std::vector<int>& perm);
 
-/// The ordering the "auto" solver uses: AMD, or METIS when AMD predicts more than
-/// options.try_metis_flops and METIS fewer.
+/// The ordering the "auto" solver uses: AMD, or METIS when the cost model
+/// (options.cost_model) says computing it pays and it predicts a faster factorisation.
 struct ChosenOrdering {
   Ordering ordering = Ordering::kAmd;
   std::vector<int> perm;

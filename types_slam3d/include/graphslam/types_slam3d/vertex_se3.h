@@ -1,22 +1,39 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cmath>
+#include <sstream>
+
 #include "graphslam/core/base_vertex.h"
 #include "graphslam/core/data_traits.h"
 #include "graphslam/geometry/se3.h"
+#include "graphslam/support/error.h"
 
 namespace graphslam {
-/// An SE(3) transform as `.g2o` numbers: x y z qx qy qz qw (the quaternion normalised on
-/// reading).
+/// An SE(3) transform as `.g2o` numbers: x y z qx qy qz qw. A quaternion whose norm is
+/// within kQuaternionNormTolerance of 1 (files written with a few digits) is normalised on
+/// reading; any other (zero, denormal, a typo) is refused: normalising it would make an
+/// arbitrary rotation, and a zero one would drop the rotation term from the error.
 template <>
 struct DataTraits<geometry::SE3> {
   static constexpr int kDimension = 7;
+  static constexpr double kQuaternionNormTolerance = 1e-2;
   static void toData(const geometry::SE3& v, double* out) {
     Eigen::Map<geometry::Vector7d> target(out);
     target = v.toVectorQT();
   }
   static geometry::SE3 fromData(const double* in) {
-    return geometry::SE3::fromVectorQT(Eigen::Map<const geometry::Vector7d>(in));
+    const Eigen::Map<const geometry::Vector7d> v(in);
+    const double norm = v.tail<4>().norm();
+    if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+      std::ostringstream msg;
+      msg.precision(6);
+      msg << "the quaternion (qx qy qz qw) = (" << v[3] << " " << v[4] << " " << v[5] << " "
+          << v[6] << ") has norm " << norm << ", not 1 (tolerance " << kQuaternionNormTolerance
+          << ")";
+      throw InputError(msg.str());
+    }
+    return geometry::SE3::fromVectorQT(v);
   }
 };
 }  // namespace graphslam
