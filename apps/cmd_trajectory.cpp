@@ -144,6 +144,7 @@ struct EvalOptions {
                                           est_format = "auto";
   std::string save, plot_dir, unit = "f";
   std::vector<std::string> plot_with;  // more trajectories for the trajectory plot
+  std::vector<std::string> plugins;    // types of a graph input's custom vertices
   double t_max_diff = 0.01, t_offset = 0.0, delta = 1.0;
   int n_to_align = -1;
   bool align = false, correct_scale = false, align_origin = false, all_pairs = false;
@@ -172,7 +173,9 @@ void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
       "save-results", po::value(&o.save), "write the result as .json or .csv")(
       "plot", po::value(&o.plot_dir), "write PNG plots into this directory (it must exist)")(
       "plot-with", po::value(&o.plot_with)->composing(),
-      "also draw this trajectory (all its poses, as read) in the trajectory plot (repeatable)");
+      "also draw this trajectory (all its poses, as read) in the trajectory plot (repeatable)")(
+      "plugin", po::value(&o.plugins)->composing(),
+      "load types from this shared library to read a graph input (repeatable)");
 }
 
 /// Parses and checks the options; false after --help.
@@ -381,8 +384,8 @@ int cmdEval(const std::vector<std::string>& args) {
   Registries reg;
   host::registerBuiltins(reg);
   if (trajectoryFormat(o.ref_path, o.ref_format) == "g2o" ||
-      trajectoryFormat(o.est_path, o.est_format) == "g2o") {
-    host::loadPlugins(reg, {});
+      trajectoryFormat(o.est_path, o.est_format) == "g2o" || !o.plugins.empty()) {
+    host::loadPlugins(reg, o.plugins);
   }
   const Trajectory ref = loadTrajectory(o.ref_path, o.ref_format, reg);
   const Trajectory est = loadTrajectory(o.est_path, o.est_format, reg);

@@ -131,7 +131,8 @@ void writeScenario(const std::string& path, const Scenario& scenario) {
 void writeSummary(const std::string& path, const RunResult& r) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
     const Summary& f = r.final_summary;
-    out << "quantity,value\nsteps," << r.steps.size() << "\noptimizations," << r.optimizations
+    out << "quantity,value\noptimizer," << r.optimizer << "\nsteps," << r.steps.size()
+        << "\noptimizations," << r.optimizations
         << "\ntotal_optimization_time," << num(r.total_optimization_time)
         << "\ntotal_optimization_cpu_time," << num(r.total_optimization_cpu_time)
         << "\nfinal_status," << toString(f.status) << "\nfinal_chi2," << num(f.final_chi2)

@@ -39,6 +39,7 @@ MapSnapshot snapshot(DriveBotSlamSystem& system, long step, double time, double 
 RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
   RunResult result;
+  result.optimizer = system.usesIncremental() ? "incremental" : "batch";
   auto stop = [&](long step, const Summary& s) {
     result.failed = true;
     result.failed_step = step;

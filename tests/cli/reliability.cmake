@@ -57,3 +57,14 @@ file(WRITE "${WORK}/ldlt_model.txt" "# every backend but eigen-ldlt costs a seco
 run(0 "linear solver auto: eigen-ldlt" ${CMAKE_COMMAND} -E env GRAPHSLAM_CALIBRATION=ldlt_model.txt
     "${TOOL}" optimize g.g2o)
 run(0 "linear solver auto: block-llt" "${TOOL}" optimize g.g2o)
+
+# drivebot says which optimizer ran the per-step optimisations, and --optimizer switches it.
+foreach(optimizer incremental batch)
+  step("optimizer: ${optimizer}" "${TOOL}" drivebot --scenario q1_b --max-steps 60
+       --optimizer ${optimizer} --out db_${optimizer})
+  file(READ "${WORK}/db_${optimizer}/summary.csv" summary)
+  if(NOT summary MATCHES "\noptimizer,${optimizer}\n")
+    message(FATAL_ERROR "summary.csv does not name the ${optimizer} optimizer:\n${summary}")
+  endif()
+endforeach()
+run(2 "--optimizer must be" "${TOOL}" drivebot --scenario q1_b --optimizer fast --out db_x)

@@ -73,6 +73,9 @@ struct LoopClosure {
 };
 
 struct RunResult {
+  /// The optimizer of the per-step optimisations: "incremental" or "batch"
+  /// (DriveBotSlamSystem::usesIncremental()); the final optimisation is a batch one.
+  std::string optimizer;
   std::vector<StepRecord> steps;
   /// Failure of an optimisation (the run stops there): step, and the summary's message.
   bool failed = false;
