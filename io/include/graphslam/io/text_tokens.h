@@ -21,7 +21,7 @@ struct LineError {
 void tokenize(std::string_view line, std::vector<std::string_view>& tokens);
 
 /// `token` in quotes for a message: bytes that would not show (control characters,
-/// non-ASCII: binary or UTF-16 input, a byte-order mark) as \xHH, at most 40 of them, and
+/// non-ASCII: binary or UTF-16 input, a byte-order mark) as `\xHH`, at most 40 of them, and
 /// a UTF-8 or UTF-16 byte-order mark named as such.
 [[nodiscard]] std::string quote(std::string_view token);
 
