@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Internal to graphslam (not installed): the token-level helpers of the text readers (the
-// .g2o line parser, the TORO and iSAM translators), so that every reader splits lines,
-// quotes bad bytes and reports numbers and ids the same way.
+// Internal to graphslam (installed with io's headers, not an API for programs): the
+// token-level helpers of the text readers (the .g2o line parser, the TORO and iSAM
+// translators), so that every reader splits lines, quotes bad bytes and reports numbers and
+// ids the same way.
 #pragma once
 
 #include <string>
