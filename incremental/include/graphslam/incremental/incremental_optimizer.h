@@ -87,7 +87,7 @@ struct UpdateFailure {
 /// through it, and update() after each batch of changes brings the estimates to the optimum
 /// of the graph as it is (to within what Options::relinearize_threshold leaves; refine()
 /// for the exact optimum), doing work that follows what changed (iSAM2's idea in matrix
-/// form, docs/ARCHITECTURE.md "Incremental optimisation"):
+/// form, docs/BENCHMARKS.md "Incremental optimisation" of its design notes):
 ///  - the Cholesky factor of H = sum J^T Omega J is kept with its elimination order; when
 ///    columns of H change (new edges, relinearised edges), only they and their ancestors in
 ///    the elimination tree are ordered again (CAMD, the vertices of the new edges last) and

@@ -70,8 +70,8 @@ struct CourseworkProblem {
 /// kAuto picks the model whose residuals at the ground truth are smaller (the two
 /// files of each kind share keys and shapes); without ground truth, a file name
 /// containing "nonlinear" means bearing-range. P is the number of odometry rows + 1 (and
-/// must equal gt_traj's rows); L is gt_landmarks' rows, else the largest landmark index
-/// + 1. Indices are stored as floats: each must be an integer in range.
+/// must equal gt_traj's rows); L is gt_landmarks' rows, else the largest landmark
+/// index + 1. Indices are stored as floats: each must be an integer in range.
 /// Throws graphslam::InputError naming the file, the array and the row for missing or
 /// malformed arrays, non-finite values, bad indices and covariances that are not
 /// symmetric positive definite.

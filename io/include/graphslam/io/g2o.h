@@ -84,11 +84,12 @@ struct LoadResult {
 /// Reads a `.g2o` file through `types`: one element per line, `TAG values...`, `FIX id...`,
 /// `#` comments. A vertex line is `TAG id estimate... parameters...`, an edge line
 /// `TAG ids... parameter-ids... measurement... parameters... information-upper-triangle...`
-/// (parameters: see Vertex/Edge::parameterDataDimension; parameter ids: Edge::numParameters;
-/// most types have neither; a type sized by its vertex count ends its ids with `|| count`,
-/// Edge::separatedCount), a parameter line `TAG id values...` (Parameter). Checks: unknown tag,
-/// wrong number of tokens, non-numbers, NaN/Inf, duplicate vertex id, edge to an undefined vertex
-/// (unless LoadOptions::create_missing_vertices), vertex of the wrong type, information matrix not
+/// (parameters: see Vertex::parameterDataDimension and Edge::parameterDataDimension;
+/// parameter ids: Edge::numParameters; most types have neither; a type sized by its vertex
+/// count ends its ids with `|| count`, Edge::separatedCount), a parameter line
+/// `TAG id values...` (Parameter). Checks: unknown tag, wrong number of tokens, non-numbers,
+/// NaN/Inf, duplicate vertex id, edge to an undefined vertex (unless
+/// LoadOptions::create_missing_vertices), vertex of the wrong type, information matrix not
 /// positive definite, a parameter the type refuses. Never throws for bad data; a file that cannot
 /// be opened is reported as a diagnostic with line 0 and the system's reason.
 [[nodiscard]] LoadResult loadG2o(const std::string& path, const TypeRegistry& types,

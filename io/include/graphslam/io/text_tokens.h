@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Internal to graphslam (not installed): the token-level helpers of the text readers (the
-// .g2o line parser, the TORO and iSAM translators), so that every reader splits lines,
-// quotes bad bytes and reports numbers and ids the same way.
+// Internal to graphslam (installed with io's headers, not an API for programs): the
+// token-level helpers of the text readers (the .g2o line parser, the TORO and iSAM
+// translators), so that every reader splits lines, quotes bad bytes and reports numbers and
+// ids the same way.
 #pragma once
 
 #include <string>
@@ -21,7 +22,7 @@ struct LineError {
 void tokenize(std::string_view line, std::vector<std::string_view>& tokens);
 
 /// `token` in quotes for a message: bytes that would not show (control characters,
-/// non-ASCII: binary or UTF-16 input, a byte-order mark) as \xHH, at most 40 of them, and
+/// non-ASCII: binary or UTF-16 input, a byte-order mark) as `\xHH`, at most 40 of them, and
 /// a UTF-8 or UTF-16 byte-order mark named as such.
 [[nodiscard]] std::string quote(std::string_view token);
 

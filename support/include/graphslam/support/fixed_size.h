@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Shared by the project's modules (build tree only): a run-time block size dispatched to a
-// compile-time one, so that loops over a small block are unrolled.
+// Shared by the project's modules (installed with support's headers, not an API for
+// programs): a run-time block size dispatched to a compile-time one, so that loops over a
+// small block are unrolled.
 #pragma once
 
 #include <type_traits>

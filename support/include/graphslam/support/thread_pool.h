@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Private to graphslam::core: a fixed set of worker threads running one data-parallel
-// loop at a time. The split of the work depends on the thread count, so callers make the
-// result independent of it (each index writes only its own output; reductions run
-// serially in index order).
+// Internal to graphslam (the optimizer's linearisation, the observability check): a fixed
+// set of worker threads running one data-parallel loop at a time. The split of the work
+// depends on the thread count, so callers make the result independent of it (each index
+// writes only its own output; reductions run serially in index order).
 #pragma once
 
 #include <condition_variable>
