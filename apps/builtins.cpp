@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "builtins.h"
 
+#include <sys/resource.h>
+
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
@@ -31,6 +33,13 @@ void configureProcess() {
   std::signal(SIGXFSZ, SIG_IGN);
   // SIGINT, SIGTERM and SIGHUP remove the temporary files of the outputs being written.
   support::removeTemporariesOnSignal();
+  // Under an address-space limit (ulimit -v) OpenBLAS's worker threads, each reserving its
+  // buffers, could fail to and then loop forever at shutdown after the output was written:
+  // BLAS runs on one thread there (OPENBLAS_NUM_THREADS still decides when set).
+  struct rlimit address_space {};
+  if (::getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY) {
+    oneBlasThreadUnlessSet();
+  }
   solvers::installCholmodPrefaultingAllocator();
   solvers::serializeCholmodOpenMp();
   support::setLargeArrayRetention(support::LargeArrayRetention{});

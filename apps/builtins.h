@@ -9,8 +9,10 @@ namespace graphslam::apps {
 
 /// The tool's process-wide settings, made once at start-up (the library makes none by
 /// itself): SuiteSparse's allocations faulted in on two threads, CHOLMOD's OpenMP loops
-/// serial, freed huge-page arrays kept for the next optimisation, and SIGXFSZ ignored (a
-/// write past a file size limit then fails with EFBIG and is reported).
+/// serial, freed huge-page arrays kept for the next optimisation, SIGXFSZ ignored (a
+/// write past a file size limit then fails with EFBIG and is reported), the temporaries of
+/// outputs removed on SIGINT/SIGTERM/SIGHUP, and BLAS on one thread under an address-space
+/// limit.
 void configureProcess();
 
 /// For the commands that run the incremental optimizer: BLAS on one thread unless

@@ -109,7 +109,8 @@ void declareOptions(po::options_description& desc, SolversOptions& o) {
                                              "write sparsity pictures (PNG) into this directory")(
       "csv", po::value(&o.csv), "write the table as CSV")(
       "slow-max", po::value(&o.slow_max)->default_value(3000),
-      "skip dense-ldlt, dense-pinv and eigen-qr above this many unknowns (0: never skip)")(
+      "skip dense-ldlt, dense-pinv, eigen-qr and the natural orderings above this many "
+      "unknowns (0: never skip)")(
       "refine", po::value(&o.refine)->default_value(1),
       "steps of iterative refinement for the normal-equation solvers, x -= H^-1 J^T (J x + r) "
       "(the gradient from J, not H: corrected semi-normal equations), timed in its own column "
@@ -219,13 +220,20 @@ Reference referenceSolution(const SolverRegistry& solvers, const StudySystem& sy
   return reference;
 }
 
-/// Why `name` is not run on this system (--slow-max, --eigen-qr-max-nnz); empty if it is.
-std::string skipReason(const std::string& name, const StudySystem& sys, const SolversOptions& o) {
+/// Why solver `name` with `ordering` is not run on this system (--slow-max,
+/// --eigen-qr-max-nnz); empty if it is.
+std::string skipReason(const std::string& name, Ordering ordering, const StudySystem& sys,
+                       const SolversOptions& o) {
   const bool slow = name == "dense-ldlt" || name == "dense-pinv" || name == "eigen-qr";
   if (slow && o.slow_max > 0 && sys.n > o.slow_max) {
     return std::to_string(sys.n) + " unknowns > --slow-max " + std::to_string(o.slow_max) +
            (name == "eigen-qr" ? " (Eigen's SparseQR fills R far beyond SPQR's)"
                                : " (dense, O(n^3) time and n^2 memory)");
+  }
+  if (o.slow_max > 0 && sys.n > o.slow_max && ordering == Ordering::kNatural) {
+    return std::to_string(sys.n) + " unknowns > --slow-max " + std::to_string(o.slow_max) +
+           " (without a fill-reducing ordering the factor of a large graph fills in: minutes "
+           "and gigabytes)";
   }
   if (name == "eigen-qr" && o.qr_max_nnz > 0 &&
       sys.jacobianNonZeros() > static_cast<std::size_t>(o.qr_max_nnz)) {
@@ -242,7 +250,7 @@ std::vector<Row> runAll(const std::vector<Spec>& specs, const SolverRegistry& so
   const bool want_pattern = !o.plot_dir.empty();
   std::vector<Row> rows;
   for (const auto& [name, ordering] : specs) {
-    const std::string skip = skipReason(name, sys, o);
+    const std::string skip = skipReason(name, ordering, sys, o);
     if (!skip.empty()) {
       Row row;
       row.solver = name;
@@ -433,9 +441,12 @@ int cmdSolvers(const std::vector<std::string>& args) {
     const std::string stem = std::filesystem::path(o.input).stem().string();
     const std::size_t count = plotPatterns(pictures->staged(), stem, sys, rows);
     if (with_truth) {
-      plotPoints((std::filesystem::path(pictures->staged()) / (stem + "_estimate.png")).string(),
+      const std::string png = stem + "_estimate.png";
+      plotPoints((std::filesystem::path(pictures->staged()) / png).string(),
                  stem + ": before and after the reference step (" + reference.name + ")", graph,
-                 initial_positions, in.ground_truth);
+                 initial_positions, in.ground_truth,
+                 (std::filesystem::path(o.plot_dir) / png).string(),
+                 "before the reference step|after it");
     }
     pictures->commit();
     std::cout << "wrote " << count << " sparsity pictures"

@@ -112,7 +112,8 @@ void printErrors(const char* what, const eval::PositionErrorStats& before,
 /// Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const io::PointGroundTruth& truth, const std::string& shown) {
+                const io::PointGroundTruth& truth, const std::string& shown,
+                const std::string& panels) {
   std::set<VertexId> pose_ids(truth.pose_ids.begin(), truth.pose_ids.end());
   if (truth.empty()) {
     for (const auto& [id, v] : graph.vertices()) {
@@ -139,7 +140,7 @@ void plotPoints(const std::string& png, const std::string& title, const Graph& g
     write("truth", gt);
   });
   const TemporaryFile remove_data{data};
-  runPlotScript("plot_points.py", {data, png, title});
+  runPlotScript("plot_points.py", {data, png, title, panels});
   std::printf("wrote %s\n", (shown.empty() ? png : shown).c_str());
 }
 

@@ -45,9 +45,11 @@ void printErrors(const char* what, const eval::PositionErrorStats& before,
 
 /// Writes the initial / final / ground-truth positions as CSV and draws them
 /// (plot_points.py). Poses are the ground truth's pose ids, or else the VERTEX_SE2 vertices.
-/// `shown`: the name the "wrote" line gives (default `png`; a staged output's final name).
+/// `shown`: the name the "wrote" line gives (default `png`; a staged output's final name);
+/// `panels`: the titles of the left and right panels, "LEFT|RIGHT".
 void plotPoints(const std::string& png, const std::string& title, const Graph& graph,
                 const std::map<VertexId, Eigen::Vector2d>& initial,
-                const io::PointGroundTruth& truth, const std::string& shown = {});
+                const io::PointGroundTruth& truth, const std::string& shown = {},
+                const std::string& panels = "initial guess|optimised");
 
 }  // namespace graphslam::apps

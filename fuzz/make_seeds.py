@@ -46,6 +46,14 @@ def main():
         for mode in (0x00, 0x01, 0x02, 0x04):  # detected; TORO; iSAM; detected, 2 threads
             write("formats", p.stem, mode, p.read_bytes())
 
+    # The pipe harness takes whole files (no mode byte): every graph format the registry
+    # detects, among them files larger than a pipe's 64 KiB.
+    (SEEDS / "pipe").mkdir(parents=True, exist_ok=True)
+    sources = sorted(DATA.rglob("*.g2o")) + sorted((DATA / "formats").iterdir()) + \
+        sorted((DATA / "npz").glob("*.npz"))
+    for p in sources:
+        (SEEDS / "pipe" / f"{p.parent.name}_{p.name}").write_bytes(p.read_bytes())
+
 
 if __name__ == "__main__":
     main()

@@ -3,7 +3,8 @@
 """Plot of `graphslam optimize --plot FILE.png`: the trajectory and landmarks before and
 after optimisation, side by side, each over the ground truth when there is one.
 Reads a CSV with columns set (initial|final|truth), role (pose|landmark), id, x, y.
-usage: plot_points.py DATA.csv OUT.png TITLE"""
+usage: plot_points.py DATA.csv OUT.png TITLE [LEFT|RIGHT]  (the panels' titles; default
+"initial guess|optimised")"""
 import csv
 import os
 import sys
@@ -36,7 +37,8 @@ def main():
     pad = 0.05 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9) if xs else 1.0
     aspect = (max(ys) - min(ys) + 2 * pad) / (max(xs) - min(xs) + 2 * pad) if xs else 1.0
     fig, axes = plt.subplots(1, 2, figsize=(13, min(9.0, max(3.5, 6.2 * aspect + 1.6))))
-    for ax, name, label in ((axes[0], "initial", "initial guess"), (axes[1], "final", "optimised")):
+    labels = sys.argv[4].split("|") if len(sys.argv) > 4 else ["initial guess", "optimised"]
+    for ax, name, label in ((axes[0], "initial", labels[0]), (axes[1], "final", labels[1])):
         tx, ty = xy("truth", "pose")
         if tx:
             ax.plot(tx, ty, "-", color="tab:blue", linewidth=1, label="ground-truth trajectory")
