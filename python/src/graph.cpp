@@ -65,6 +65,16 @@ std::string tagOf(const Vertex& v) {
   return t ? *t : std::string("?");
 }
 
+/// The registered vertex tags slot `slot` of `edge` accepts ("VERTEX_XY"), for messages.
+std::string expectedTag(const Edge& edge, std::size_t slot) {
+  std::string tags;
+  for (const auto* entry : registries().types.entries()) {
+    if (entry->kind != TypeRegistry::Kind::kVertex) continue;
+    if (edge.acceptsVertex(slot, *entry->make_vertex())) tags += (tags.empty() ? "" : " or ") + entry->tag;
+  }
+  return tags.empty() ? edge.expectedVertexType(slot) : tags;
+}
+
 std::string tagOf(const Edge& e) {
   const std::string* t = registries().types.tagOf(e);
   return t ? *t : std::string("?");
@@ -175,6 +185,13 @@ std::int64_t addEdge(PyGraph& g, const std::string& tag, const py::handle& verte
   g.checkIdle();
   const std::vector<VertexId> ids = vertexIdList(vertex_ids, "vertex_ids");
   auto edge = makeEdge(tag, ids, measurement, information, parameter_ids, parameters);
+  for (std::size_t s = 0; s < ids.size(); ++s) {
+    const Vertex* v = g.graph.vertex(ids[s]);
+    if (v != nullptr && !edge->acceptsVertex(s, *v)) {
+      throw InputError(tag + ": vertex " + std::to_string(ids[s]) + " is " + tagOf(*v) + ", not " +
+                       expectedTag(*edge, s) + " (slot " + std::to_string(s) + ")");
+    }
+  }
   const bool had_lines = !g.edge_lines.empty();
   g.graph.addEdge(std::move(edge));
   if (had_lines) g.edge_lines.push_back(0);

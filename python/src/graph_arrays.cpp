@@ -293,7 +293,7 @@ py::array_t<std::int64_t> addEdges(PyGraph& g, const std::string& tag, const py:
       }
       if (!proto->acceptsVertex(static_cast<std::size_t>(s), *v)) {
         throw py::value_error("edge " + std::to_string(k) + ": vertex " + std::to_string(id) + " is " +
-                              tagOf(*v) + ", not " + proto->expectedVertexType(static_cast<std::size_t>(s)));
+                              tagOf(*v) + ", not " + expectedTag(*proto, static_cast<std::size_t>(s)));
       }
     }
     if (k == 0 || !shared) {

@@ -30,6 +30,8 @@ const TagType& edgeTagType(const std::string& tag);
 std::string tagOf(const Vertex& v);
 std::string tagOf(const Edge& e);
 
+/// The registered vertex tags that slot `slot` of `edge` accepts ("VERTEX_XY"), for messages.
+std::string expectedTag(const Edge& edge, std::size_t slot);
 /// A new vertex of `tag` (estimate and parameters checked; None: the type's default).
 std::unique_ptr<Vertex> makeVertex(const std::string& tag, std::int64_t id, const py::handle& estimate,
                                    bool fixed, const py::handle& parameters);

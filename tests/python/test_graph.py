@@ -119,7 +119,7 @@ def test_library_errors_carry_its_messages():
         g.add_edge("EDGE_SE2", [0, 5], [0, 0, 0])
     with pytest.raises(graphslam.Error):
         g.add_vertex("VERTEX_SE2", 1, [0, 0, 0])  # duplicate id
-    with pytest.raises(graphslam.Error):
+    with pytest.raises(graphslam.InputError, match="vertex 1 is VERTEX_SE2, not VERTEX_XY"):
         g.add_edge("EDGE_SE2_XY", [0, 1], [0, 0])  # vertex 1 is not a point
     assert issubclass(graphslam.InputError, ValueError)
     assert issubclass(graphslam.RegistryError, LookupError)
@@ -149,3 +149,37 @@ def test_one_million_poses_are_read_in_bulk_quickly():
     g.set_estimates("VERTEX_SE2", ids, poses)
     print(f"set_estimates of {n} poses: {(time.thread_time() - c0) * 1e3:.1f} ms CPU")
     assert g.estimate(123456) == pytest.approx([123456, 2.0, 0.0])
+
+
+def test_bulk_adds_are_all_or_nothing():
+    g, _ = square_graph()
+    with pytest.raises(ValueError, match="already in the graph"):
+        g.add_vertices("VERTEX_SE2", [10, 3], np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="twice"):
+        g.add_vertices("VERTEX_SE2", [12, 11, 12], np.zeros((3, 3)))
+    with pytest.raises(KeyError, match="vertex 9"):
+        g.add_edges("EDGE_SE2", [[0, 1], [1, 9]], np.zeros((2, 3)))
+    with pytest.raises(ValueError, match=r"\(2, 3\)"):
+        g.add_edges("EDGE_SE2", [[0, 1], [1, 2]], np.zeros((2, 2)))
+    with pytest.raises(ValueError, match="positive definite"):
+        g.add_edges("EDGE_SE2", [[0, 1], [1, 2]], np.zeros((2, 3)), np.stack([np.eye(3), -np.eye(3)]))
+    with pytest.raises(ValueError, match="VERTEX_XY"):
+        g.add_edges("EDGE_SE2_XY", [[0, 1]], np.zeros((1, 2)))
+    assert g.num_vertices == 4 and g.num_edges == 4
+
+
+def test_numpy_inputs_of_every_kind():
+    g = graphslam.Graph()
+    g.add_vertex("VERTEX_SE2", np.int64(0), np.array([0, 0, 0], dtype=np.int32))
+    g.add_vertex("VERTEX_SE2", 1, np.array([[1.0], [0.0], [0.0]], dtype=np.float32))
+    g.add_edge("EDGE_SE2", np.array([0, 1], dtype=np.uint8), (1, 0, 0), np.eye(3, dtype=np.float32))
+    g.set_estimates("VERTEX_SE2", [1], np.asfortranarray([[2.0, 0.0, 0.0]]))
+    assert g.estimate(1) == pytest.approx([2, 0, 0])
+    with pytest.raises(ValueError):
+        g.add_vertex("VERTEX_SE2", 2, [1, 2, None])
+    with pytest.raises(ValueError):
+        g.add_vertex("VERTEX_SE2", 2, "1 2 3")
+    with pytest.raises(ValueError, match="range"):
+        g.add_vertex("VERTEX_SE2", 2**40, [0, 0, 0])
+    with pytest.raises(ValueError):
+        g.add_vertex("VERTEX_SE2", 2, [1 + 2j, 0, 0])

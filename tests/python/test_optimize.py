@@ -188,3 +188,18 @@ def test_marginals_of_a_free_vertex_fail_with_its_id():
     g.add_edge("EDGE_SE2", [0, 1], [1, 0, 0])
     with pytest.raises(graphslam.InputError, match="2"):
         graphslam.marginals(g, ids=[1, 2])
+
+
+def test_ctrl_c_stops_the_library(dataset):
+    import os
+    import signal
+    g = graphslam.load(dataset("city10000.g2o"))
+    timer = threading.Timer(0.05, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            graphslam.optimize(g, init="none", algorithm="lm", function_tolerance=0,
+                               step_tolerance=0, max_iterations=1_000_000)
+    finally:
+        timer.cancel()
+    assert g.chi2() > 0  # the graph stays usable
