@@ -113,6 +113,8 @@ class CustomEdge:
     measurement_dimension = None
 
     def error(self, estimates, measurement):
+        """The error (dimension,) at the vertices' `estimates` (a list of 1-D arrays, their
+        .g2o data) for the `measurement` (1-D array); subclasses define it."""
         raise NotImplementedError(f"{type(self).__name__} does not define error()")
 
 

@@ -58,9 +58,16 @@ struct PyGraph {
   /// Set while the library works on the graph without the GIL (optimize, marginals):
   /// other Python threads may not change it meanwhile.
   std::atomic<bool> busy{false};
+  /// Set while an optimisation waits for its Python callback: the graph may then be read
+  /// (estimates for a live plot), not changed.
+  std::atomic<bool> paused{false};
 
   /// Throws RuntimeError when the graph is in use by another thread.
   void checkIdle() const;
+  /// The same, except while the library waits for a callback.
+  void checkReadable() const {
+    if (!paused.load()) checkIdle();
+  }
   /// Keeps edge_lines in step with the edges after `graph` changed them.
   void syncEdgeLines();
   /// "FILE" or "graph" for messages.

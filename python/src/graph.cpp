@@ -259,7 +259,7 @@ void fixVertices(PyGraph& g, const py::handle& ids, bool fixed) {
 }
 
 py::dict edgeDict(PyGraph& g, std::int64_t index) {
-  g.checkIdle();
+  g.checkReadable();
   const Edge& e = edgeAt(g, index);
   const std::size_t i = static_cast<std::size_t>(index < 0 ? index + g.graph.numEdges() : index);
   py::dict d;

@@ -16,7 +16,7 @@ namespace graphslam::python {
 namespace {
 
 py::tuple estimates(PyGraph& g, const std::string& tag) {
-  g.checkIdle();
+  g.checkReadable();
   const int dim = vertexTagType(tag).data_dimension;
   const PyGraph::TagVertices& cached = g.verticesOf(tag);
   const std::vector<Vertex*>& vs = cached.vertices;
@@ -88,7 +88,7 @@ void setEstimates(PyGraph& g, const std::string& tag, const py::handle& ids_obj,
 }
 
 py::array_t<double> estimate(PyGraph& g, std::int64_t id) {
-  g.checkIdle();
+  g.checkReadable();
   const Vertex* v = g.graph.vertex(toVertexId(id, "vertex id"));
   if (v == nullptr) throw py::key_error("vertex " + std::to_string(id) + " is not in the graph");
   auto out = newArray({v->estimateDataDimension()});
@@ -106,7 +106,7 @@ void setEstimate(PyGraph& g, std::int64_t id, const py::handle& value) {
 }
 
 py::array_t<std::int64_t> vertexIds(PyGraph& g, const py::object& tag, bool fixed_only) {
-  g.checkIdle();
+  g.checkReadable();
   std::vector<VertexId> ids;
   if (tag.is_none()) {
     for (const auto& [id, v] : g.graph.vertices()) {
@@ -130,7 +130,7 @@ std::vector<std::size_t> edgesOfTag(const PyGraph& g, const std::string& tag) {
 }
 
 py::tuple edges(PyGraph& g, const std::string& tag) {
-  g.checkIdle();
+  g.checkReadable();
   const std::vector<std::size_t> idx = edgesOfTag(g, tag);
   const auto n = static_cast<py::ssize_t>(idx.size());
   const auto& all = g.graph.edges();
@@ -161,7 +161,7 @@ py::tuple edges(PyGraph& g, const std::string& tag) {
 }
 
 py::array_t<double> edgeInformation(PyGraph& g, const std::string& tag) {
-  g.checkIdle();
+  g.checkReadable();
   const std::vector<std::size_t> idx = edgesOfTag(g, tag);
   const auto n = static_cast<py::ssize_t>(idx.size());
   py::ssize_t d = edgeTagType(tag).dimension;

@@ -264,6 +264,11 @@ Summary runOptimizer(PyGraph& g, const Optimizer::Options& options, const py::ob
     bool stop = PyErr_CheckSignals() != 0;
     if (!stop && !callback.is_none()) {
       try {
+        g.paused.store(true);
+        struct Resume {
+          PyGraph& g;
+          ~Resume() { g.paused.store(false); }
+        } resume{g};
         py::object verdict = callback(iterationDict(s));
         stop = !verdict.is_none() && !verdict.cast<bool>();
       } catch (py::error_already_set& e) {
@@ -399,7 +404,8 @@ loop-closures or a tag). reject_outliers: graduated non-convexity with truncated
 squares first (odometry and priors are known inliers), the rejected edges removed from the
 graph (result.rejected_edges); inlier_probability and gnc_init (robust, known-inliers) tune it.
 callback(stats: dict) after every iteration (iteration, chi2, step_norm, accepted, elapsed,
-...); returning False stops the run there (status "stopped"). The library works without the
+...); returning False stops the run there (status "stopped"); it may read the graph
+(estimates, edges) but not change it. The library works without the
 GIL; Ctrl-C stops it after the current iteration (KeyboardInterrupt).
 Vertices the edges do not determine raise graphslam.InputError naming them (and their
 edges' lines) unless drop_unobservable removes them. Returns an OptimizeResult; numerical

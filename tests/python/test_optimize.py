@@ -203,3 +203,22 @@ def test_ctrl_c_stops_the_library(dataset):
     finally:
         timer.cancel()
     assert g.chi2() > 0  # the graph stays usable
+
+
+def test_callback_may_read_but_not_change_the_graph(dataset):
+    g = graphslam.load(dataset("mit.g2o"))
+    seen = []
+
+    def watch(stats):
+        ids, poses = g.estimates("VERTEX_SE2")
+        seen.append(poses.copy())
+
+    r = graphslam.optimize(g, callback=watch)
+    assert r.ok and len(seen) == r.iterations
+    assert seen[-1] == pytest.approx(g.estimates("VERTEX_SE2")[1])
+
+    def change(stats):
+        g.set_estimate(1, [0, 0, 0])
+
+    with pytest.raises(RuntimeError, match="in use"):
+        graphslam.optimize(g, callback=change)
