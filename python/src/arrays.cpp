@@ -22,22 +22,32 @@ void PyGraph::syncEdgeLines() {
   if (!edge_lines.empty() && edge_lines.size() != graph.numEdges()) edge_lines.clear();
 }
 
-const PyGraph::TagVertices& PyGraph::verticesOf(const std::string& tag) {
-  TagVertices& c = tag_vertices[tag];
-  if (c.version == graph.structureVersion() && (c.version != 0 || graph.numVertices() == 0)) {
-    return c;
-  }
-  const std::type_index type = vertexTagType(tag).type;
-  c.vertices.clear();
-  c.ids.clear();
+void PyGraph::indexVertices() {
+  // Vertex types are few: a short list of (type, vertices) found in the walk, tags after.
+  std::vector<std::pair<std::type_index, TagVertices>> by_type;
   for (const auto& [id, v] : graph.vertices()) {
-    if (std::type_index(typeid(*v)) == type) {
-      c.vertices.push_back(v.get());
-      c.ids.push_back(id);
-    }
+    const std::type_index type(typeid(*v));
+    std::size_t k = 0;
+    while (k < by_type.size() && by_type[k].first != type) ++k;
+    if (k == by_type.size()) by_type.emplace_back(type, TagVertices{});
+    by_type[k].second.vertices.push_back(v.get());
+    by_type[k].second.ids.push_back(id);
   }
-  c.version = graph.structureVersion();
-  return c;
+  tag_vertices.clear();
+  for (auto& [type, list] : by_type) {
+    const std::string* tag = registries().types.tagOf(*list.vertices.front());
+    if (tag != nullptr) tag_vertices[*tag] = std::move(list);
+  }
+  index_version = graph.structureVersion();
+  indexed = true;
+}
+
+const PyGraph::TagVertices& PyGraph::verticesOf(const std::string& tag) {
+  (void)vertexTagType(tag);  // RegistryError for a tag that is not a vertex tag
+  if (!indexed || index_version != graph.structureVersion()) indexVertices();
+  static const TagVertices kNone;
+  const auto it = tag_vertices.find(tag);
+  return it == tag_vertices.end() ? kNone : it->second;
 }
 
 BusyGraph::BusyGraph(PyGraph& g) : g_(g) {

@@ -43,17 +43,25 @@ struct PyGraph {
   bool keep_initial_guess = true;
   io::PointGroundTruth ground_truth;
   std::size_t created_vertices = 0;
-  /// The vertices of a tag in id order, kept while the graph's structure does not change
-  /// (Graph::structureVersion): bulk reads of a large graph then walk a vector instead of
-  /// the graph's map.
+  /// The vertices of each tag in id order (an index), kept while the graph's structure does
+  /// not change (Graph::structureVersion), and across edge changes (keepIndex): bulk reads
+  /// of a large graph then walk a vector instead of the graph's map. Made by one walk of
+  /// the map for every tag at once; load() makes it while it reads.
   struct TagVertices {
-    std::uint64_t version = 0;
     std::vector<Vertex*> vertices;
     std::vector<VertexId> ids;
   };
   std::map<std::string, TagVertices> tag_vertices;
-  /// The cached vertices of `tag` (a registered vertex tag), rebuilt when stale.
+  std::uint64_t index_version = 0;
+  bool indexed = false;
+  /// The vertices of `tag` (a registered vertex tag), the index made again when stale.
   const TagVertices& verticesOf(const std::string& tag);
+  /// Makes the index (one walk of the graph's vertices). No Python: may run without the GIL.
+  void indexVertices();
+  /// After a change of edges only: the index stays valid if it was at `version_before`.
+  void keepIndex(std::uint64_t version_before) {
+    if (indexed && index_version == version_before) index_version = graph.structureVersion();
+  }
 
   /// Set while the library works on the graph without the GIL (optimize, marginals):
   /// other Python threads may not change it meanwhile.

@@ -193,7 +193,9 @@ std::int64_t addEdge(PyGraph& g, const std::string& tag, const py::handle& verte
     }
   }
   const bool had_lines = !g.edge_lines.empty();
+  const std::uint64_t before = g.graph.structureVersion();
   g.graph.addEdge(std::move(edge));
+  g.keepIndex(before);
   if (had_lines) g.edge_lines.push_back(0);
   return static_cast<std::int64_t>(g.graph.numEdges()) - 1;
 }
@@ -228,7 +230,10 @@ std::size_t removeEdges(PyGraph& g, const py::handle& indices) {
     }
     g.edge_lines.swap(kept);
   }
-  return g.graph.removeEdges([&](const Edge& e) { return gone.count(&e) != 0; });
+  const std::uint64_t before = g.graph.structureVersion();
+  const std::size_t count = g.graph.removeEdges([&](const Edge& e) { return gone.count(&e) != 0; });
+  g.keepIndex(before);
+  return count;
 }
 
 bool removeVertex(PyGraph& g, std::int64_t id) {
@@ -309,7 +314,11 @@ std::shared_ptr<PyGraph> copyOf(PyGraph& g) {
 }
 
 void bindConstruction(py::class_<PyGraph, std::shared_ptr<PyGraph>>& c) {
-  c.def(py::init([] { return std::make_shared<PyGraph>(); }),
+  c.def(py::init([] {
+          auto g = std::make_shared<PyGraph>();
+          g->indexed = true;  // the (empty) index of the empty graph
+          return g;
+        }),
         "An empty graph. Add vertices and edges by their .g2o tags (graphslam.vertex_tags(), "
         "graphslam.edge_tags()).");
   c.def("add_vertex", &addVertex, py::arg("tag"), py::arg("id"), py::arg("estimate") = py::none(),

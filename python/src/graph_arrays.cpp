@@ -234,14 +234,23 @@ void addVertices(PyGraph& g, const std::string& tag, const py::handle& ids_obj,
     const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
     if (dup != sorted.end()) throw py::value_error("vertex id " + std::to_string(*dup) + " appears twice");
   }
+  // New ids above every id of the graph, in order, extend a valid index: no walk after.
+  const bool extend = g.indexed && g.index_version == g.graph.structureVersion() && increasing &&
+                      (n == 0 || g.graph.numVertices() == 0 || vids[0] > g.graph.vertices().rbegin()->first);
+  PyGraph::TagVertices* list = extend ? &g.tag_vertices[tag] : nullptr;
   const auto& types = registries().types;
   for (py::ssize_t k = 0; k < n; ++k) {
     auto v = types.createVertex(tag);
     v->setId(vids[k]);
     v->setEstimateData(values.data() + k * dim);
     v->setFixed(fixed);
-    g.graph.addVertex(std::move(v));
+    Vertex& added = g.graph.addVertex(std::move(v));
+    if (list) {
+      list->vertices.push_back(&added);
+      list->ids.push_back(vids[k]);
+    }
   }
+  if (extend) g.index_version = g.graph.structureVersion();
 }
 
 py::array_t<std::int64_t> addEdges(PyGraph& g, const std::string& tag, const py::handle& ids_obj,
@@ -309,6 +318,7 @@ py::array_t<std::int64_t> addEdges(PyGraph& g, const std::string& tag, const py:
   }
   py::array_t<std::int64_t> out(n);
   const bool had_lines = !g.edge_lines.empty();
+  const std::uint64_t before = g.graph.structureVersion();
   for (py::ssize_t k = 0; k < n; ++k) {
     auto e = registries().types.createEdge(tag);
     std::vector<VertexId> vs(static_cast<std::size_t>(t.arity));
@@ -320,6 +330,7 @@ py::array_t<std::int64_t> addEdges(PyGraph& g, const std::string& tag, const py:
     if (had_lines) g.edge_lines.push_back(0);
     out.mutable_data()[k] = static_cast<std::int64_t>(g.graph.numEdges()) - 1;
   }
+  g.keepIndex(before);
   return out;
 }
 

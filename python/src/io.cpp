@@ -33,12 +33,13 @@ std::shared_ptr<PyGraph> load(const py::handle& path_obj, const std::string& for
   context.choices = choices;
   context.choices["npz-model"] = npz_model;
   io::GraphFile in;
+  auto g = std::make_shared<PyGraph>();
   {
     py::gil_scoped_release release;
     in = io::readGraph(path, registries().formats, context, format);
+    g->graph = std::move(in.graph);
+    g->indexVertices();
   }
-  auto g = std::make_shared<PyGraph>();
-  g->graph = std::move(in.graph);
   g->path = in.path;
   g->format = in.format;
   g->edge_lines = std::move(in.edge_lines);

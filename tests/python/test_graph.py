@@ -130,9 +130,9 @@ def test_one_million_poses_are_read_in_bulk_quickly():
     g = graphslam.Graph()
     values = np.column_stack([np.arange(n, dtype=float), np.zeros(n), np.zeros(n)])
     g.add_vertices("VERTEX_SE2", np.arange(n), values)
-    # CPU time of this thread, the least of five reads: other sessions' builds on a shared
-    # machine stretch the wall time, not the work. The first read builds the graph's cached
-    # list of the tag's vertices (a walk of its map); later reads walk that list.
+    # CPU time of this thread: other sessions' builds on a shared machine stretch the wall
+    # time, not the work. Bulk reads walk the graph's index of the tag's vertices, which
+    # add_vertices extended (load() makes it while reading a file).
     cpu, wall = [], []
     for _ in range(5):
         c0, t0 = time.thread_time(), time.perf_counter()
@@ -141,7 +141,7 @@ def test_one_million_poses_are_read_in_bulk_quickly():
         wall.append(time.perf_counter() - t0)
     print(f"estimates of {n} poses: first {cpu[0] * 1e3:.1f} ms CPU ({wall[0] * 1e3:.1f} ms wall), "
           f"then {min(cpu[1:]) * 1e3:.1f} ms CPU ({min(wall[1:]) * 1e3:.1f} ms wall)")
-    best = min(cpu[1:])
+    best = sorted(cpu)[2]  # the median of five
     assert poses.shape == (n, 3) and ids[-1] == n - 1 and poses[-1, 0] == n - 1
     assert best < 0.1
     poses[:, 1] = 2.0
@@ -183,3 +183,22 @@ def test_numpy_inputs_of_every_kind():
         g.add_vertex("VERTEX_SE2", 2**40, [0, 0, 0])
     with pytest.raises(ValueError):
         g.add_vertex("VERTEX_SE2", 2, [1 + 2j, 0, 0])
+
+
+def test_bulk_reads_follow_every_change():
+    g, _ = square_graph()
+    assert g.estimates("VERTEX_SE2")[0].tolist() == [0, 1, 2, 3]
+    assert g.estimates("VERTEX_XY")[0].tolist() == []
+    g.add_vertex("VERTEX_XY", 7, [1, 2])
+    g.add_edge("EDGE_SE2_XY", [0, 7], [1, 2])
+    assert g.estimates("VERTEX_XY")[0].tolist() == [7]
+    g.remove_edge(4)
+    g.remove_vertex(2)
+    ids, poses = g.estimates("VERTEX_SE2")
+    assert ids.tolist() == [0, 1, 3] and poses.shape == (3, 3)
+    g.add_vertices("VERTEX_SE2", [8, 9], [[8, 0, 0], [9, 0, 0]])
+    g.set_estimates("VERTEX_SE2", [9, 8], [[9.5, 0, 0], [8.5, 0, 0]])
+    ids, poses = g.estimates("VERTEX_SE2")
+    assert ids.tolist() == [0, 1, 3, 8, 9] and poses[3:, 0].tolist() == [8.5, 9.5]
+    with pytest.raises(graphslam.RegistryError):
+        g.estimates("EDGE_SE2")
