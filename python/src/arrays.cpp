@@ -42,6 +42,15 @@ void PyGraph::indexVertices() {
   indexed = true;
 }
 
+void PyGraph::noteAddedVertex(Vertex& v, const std::string& tag, std::uint64_t version_before) {
+  if (!indexed || index_version != version_before) return;
+  if (graph.vertices().rbegin()->first != v.id()) return;  // not in id order: stale
+  TagVertices& list = tag_vertices[tag];
+  list.vertices.push_back(&v);
+  list.ids.push_back(v.id());
+  index_version = graph.structureVersion();
+}
+
 const PyGraph::TagVertices& PyGraph::verticesOf(const std::string& tag) {
   (void)vertexTagType(tag);  // RegistryError for a tag that is not a vertex tag
   if (!indexed || index_version != graph.structureVersion()) indexVertices();

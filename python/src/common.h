@@ -58,6 +58,9 @@ struct PyGraph {
   const TagVertices& verticesOf(const std::string& tag);
   /// Makes the index (one walk of the graph's vertices). No Python: may run without the GIL.
   void indexVertices();
+  /// After `v` was added (of `tag`): an index valid at `version_before` takes it when its id
+  /// is the graph's largest (vertices added in id order), else it is made again when needed.
+  void noteAddedVertex(Vertex& v, const std::string& tag, std::uint64_t version_before);
   /// After a change of edges only: the index stays valid if it was at `version_before`.
   void keepIndex(std::uint64_t version_before) {
     if (indexed && index_version == version_before) index_version = graph.structureVersion();

@@ -176,7 +176,8 @@ Vertex& vertexAt(PyGraph& g, std::int64_t id) {
 void addVertex(PyGraph& g, const std::string& tag, std::int64_t id, const py::handle& estimate,
                bool fixed, const py::handle& parameters) {
   g.checkIdle();
-  g.graph.addVertex(makeVertex(tag, id, estimate, fixed, parameters));
+  const std::uint64_t before = g.graph.structureVersion();
+  g.noteAddedVertex(g.graph.addVertex(makeVertex(tag, id, estimate, fixed, parameters)), tag, before);
 }
 
 std::int64_t addEdge(PyGraph& g, const std::string& tag, const py::handle& vertex_ids,

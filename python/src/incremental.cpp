@@ -38,7 +38,12 @@ std::unique_ptr<PyIncremental> make(const std::shared_ptr<PyGraph>& graph, doubl
     throw py::value_error("relinearize_skip and max_passes must be at least 1");
   }
   auto out = std::make_unique<PyIncremental>();
-  out->graph = graph ? graph : std::make_shared<PyGraph>();
+  if (graph) {
+    out->graph = graph;
+  } else {
+    out->graph = std::make_shared<PyGraph>();
+    out->graph->indexed = true;  // the (empty) index of the empty graph
+  }
   out->graph->checkIdle();
   incremental::Options o;
   o.relinearize_threshold = relinearize_threshold;
@@ -74,7 +79,9 @@ void bindIncremental(py::module_& m) {
       [](PyIncremental& inc, const std::string& tag, std::int64_t id, const py::handle& estimate,
          bool fixed, const py::handle& parameters) {
         inc.graph->checkIdle();
-        inc.optimizer->addVertex(makeVertex(tag, id, estimate, fixed, parameters));
+        const std::uint64_t before = inc.graph->graph.structureVersion();
+        Vertex& v = inc.optimizer->addVertex(makeVertex(tag, id, estimate, fixed, parameters));
+        inc.graph->noteAddedVertex(v, tag, before);
       },
       py::arg("tag"), py::arg("id"), py::arg("estimate") = py::none(), py::arg("fixed") = false,
       py::arg("parameters") = py::none(), "As Graph.add_vertex, through the optimizer.");
@@ -83,8 +90,10 @@ void bindIncremental(py::module_& m) {
       [](PyIncremental& inc, const std::string& tag, const py::handle& ids, const py::handle& z,
          const py::handle& information, const std::vector<int>& parameter_ids, const py::handle& parameters) {
         inc.graph->checkIdle();
+        const std::uint64_t before = inc.graph->graph.structureVersion();
         inc.optimizer->addEdge(makeEdge(tag, vertexIdList(ids, "vertex_ids"), z, information,
                                         parameter_ids, parameters));
+        inc.graph->keepIndex(before);
         inc.graph->syncEdgeLines();
         return static_cast<std::int64_t>(inc.graph->graph.numEdges()) - 1;
       },

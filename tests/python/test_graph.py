@@ -202,3 +202,14 @@ def test_bulk_reads_follow_every_change():
     assert ids.tolist() == [0, 1, 3, 8, 9] and poses[3:, 0].tolist() == [8.5, 9.5]
     with pytest.raises(graphslam.RegistryError):
         g.estimates("EDGE_SE2")
+
+
+def test_vertices_added_one_by_one_keep_the_index():
+    g = graphslam.Graph()
+    for i in range(5):
+        g.add_vertex("VERTEX_SE2", i, [i, 0, 0])
+        if i:
+            g.add_edge("EDGE_SE2", [i - 1, i], [1, 0, 0])
+        assert g.estimates("VERTEX_SE2")[0].tolist() == list(range(i + 1))
+    g.add_vertex("VERTEX_SE2", -1, [0, 0, 0])  # below the others: the index is made again
+    assert g.estimates("VERTEX_SE2")[0].tolist() == [-1, 0, 1, 2, 3, 4]
