@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -37,7 +38,13 @@ int optimizeWithInstalledPlugins() {
   host.solvers = &solvers;
   host.kernels = &kernels;
   host.modules = &modules;
-  loadPlugins(files, host, plugins);
+  std::vector<std::string> with_own = files;
+  with_own.push_back(CONSUMER_PLUGIN);  // built by graphslam_add_plugin()
+  loadPlugins(with_own, host, plugins);
+  if (types.find("EDGE_CONSUMER_PRIOR") == nullptr) {
+    std::printf("consumer: the plugin built with graphslam_add_plugin did not register\n");
+    return 1;
+  }
   std::istringstream text(
       "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1.1 0.1 1.5\nVERTEX_SE2 2 0.9 1.1 3.2\n"
       "VERTEX_SE2 3 -0.1 0.9 4.6\n"
