@@ -160,9 +160,9 @@ std::vector<std::function<System()>> systems(bool quick) {
 double medianSeconds(const std::function<bool()>& run, double budget) {
   std::vector<double> times;
   const auto start = Clock::now();
-  while (times.size() < 3 ||
-         (times.size() < 25 &&
-          std::chrono::duration<double>(Clock::now() - start).count() < budget)) {
+  while (
+      times.size() < 3 ||
+      (times.size() < 25 && std::chrono::duration<double>(Clock::now() - start).count() < budget)) {
     const auto t0 = Clock::now();
     if (!run()) return -1.0;
     times.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
@@ -204,13 +204,13 @@ void measure(const System& sys, const SolverRegistry& solvers, Budget& budget,
         medianSeconds([&] { return solver->factorize(sys.values.data()).ok(); }, budget.seconds);
     if (seconds > budget.slowest) budget.slow_from[spec] = flops;
     if (seconds > 0) samples.push_back({line, static_cast<double>(s.n), flops, seconds});
-    std::printf("  %-28s %-20s n %-8d flops %-10.3g %.3e s\n", sys.name.c_str(), spec.c_str(),
-                s.n, flops, seconds);
+    std::printf("  %-28s %-20s n %-8d flops %-10.3g %.3e s\n", sys.name.c_str(), spec.c_str(), s.n,
+                flops, seconds);
   }
   if (solvers.contains("cholmod")) {
-    const double seconds = medianSeconds(
-        [&] { return !solvers::fillReducingOrdering(Ordering::kMetis, s).empty(); },
-        budget.seconds);
+    const double seconds =
+        medianSeconds([&] { return !solvers::fillReducingOrdering(Ordering::kMetis, s).empty(); },
+                      budget.seconds);
     samples.push_back({"metis", static_cast<double>(s.num_blocks),
                        static_cast<double>(s.col_ptr[s.n]) / (block * block), seconds});
   }
@@ -238,8 +238,7 @@ int cmdCalibrate(const std::vector<std::string>& args) {
       "seconds of repeated factorisations per system and backend (at least 3 each)")(
       "slowest", doubleValue(&budget.slowest, budget.slowest),
       "a backend slower than this (seconds per factorisation) is not timed on larger "
-      "systems")(
-      "quick", "small systems only (a few seconds; a coarse model for tests)");
+      "systems")("quick", "small systems only (a few seconds; a coarse model for tests)");
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(

@@ -337,7 +337,8 @@ void applySlamOptions(const po::variables_map& vm, Setup& setup) {
   if (given(vm, "no-noise")) sim.perturb_with_noise = false;
   if (given(vm, "max-steps")) {
     sim.max_steps = vm["max-steps"].as<long>();
-    }
+    if (sim.max_steps < 1) throw UsageError("--max-steps must be at least 1");
+  }
   if (given(vm, "remove-prediction-edges")) {
     slam.remove_prediction_edges = parseChoice<PredictionEdgeRemoval>(
         "remove-prediction-edges", vm["remove-prediction-edges"].as<std::string>(),

@@ -59,8 +59,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "passes (and whether their limit was reached), relinearised vertices and edges, "
       "eliminated columns, full rebuild, chi2 (and the checks')")(
       "plot", po::value(&o.plot), "draw the per-step time (log scale) and chi2 into this PNG")(
-      "relinearize-threshold",
-      doubleValue(&opt.relinearize_threshold, opt.relinearize_threshold),
+      "relinearize-threshold", doubleValue(&opt.relinearize_threshold, opt.relinearize_threshold),
       "relinearise a vertex when an entry of its step from its linearisation point exceeds "
       "this (metres, radians)")(
       "relinearize-skip", po::value(&opt.relinearize_skip)->default_value(opt.relinearize_skip),

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // graphslam simulate: a seeded Manhattan-world graph or 3D pose graph and its ground truth.
-#include <cmath>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>

@@ -81,22 +81,12 @@ void saveTrajectory(const std::string& path, const Trajectory& t, const std::str
 }
 
 PoseRelation parseRelation(const std::string& r) {
-  static const std::map<std::string, PoseRelation> names = {
-      {"trans_part", PoseRelation::kTranslationPart},
-      {"rot_part", PoseRelation::kRotationPart},
-      {"angle_deg", PoseRelation::kRotationAngleDeg},
-      {"angle_rad", PoseRelation::kRotationAngleRad},
-      {"full", PoseRelation::kFullTransformation},
-      {"point_distance", PoseRelation::kPointDistance},
-      {"point_distance_error_ratio", PoseRelation::kPointDistanceErrorRatio}};
-  auto it = names.find(r);
-  if (it == names.end()) {
-    throw UsageError(
-        "--pose-relation must be trans_part, rot_part, angle_deg, angle_rad, full, "
-        "point_distance or point_distance_error_ratio, not '" +
-        r + "'");
+  PoseRelation relation{};
+  if (!poseRelationFromName(r, &relation)) {
+    throw UsageError(std::string("--pose-relation must be ") + kPoseRelationNames + ", not '" + r +
+                     "'");
   }
-  return it->second;
+  return relation;
 }
 
 std::string relationTitle(PoseRelation r) {
@@ -394,10 +384,11 @@ int cmdEval(const std::vector<std::string>& args) {
   const bool kitti = trajectoryFormat(o.ref_path, o.ref_format) == "kitti" ||
                      trajectoryFormat(o.est_path, o.est_format) == "kitti";
   if (kitti && ref.size() != est.size()) {
-    throw InputError("KITTI trajectories have no timestamps to pair their poses by, so both "
-                     "need the same number of poses: " + o.ref_path + " has " +
-                     std::to_string(ref.size()) + ", " + o.est_path + " has " +
-                     std::to_string(est.size()));
+    throw InputError(
+        "KITTI trajectories have no timestamps to pair their poses by, so both "
+        "need the same number of poses: " +
+        o.ref_path + " has " + std::to_string(ref.size()) + ", " + o.est_path + " has " +
+        std::to_string(est.size()));
   }
   const AlignmentOptions align = alignmentOf(o);
   const PoseRelation rel = parseRelation(o.relation);

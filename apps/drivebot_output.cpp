@@ -132,13 +132,13 @@ void writeSummary(const std::string& path, const RunResult& r) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
     const Summary& f = r.final_summary;
     out << "quantity,value\noptimizer," << r.optimizer << "\nsteps," << r.steps.size()
-        << "\noptimizations," << r.optimizations
-        << "\ntotal_optimization_time," << num(r.total_optimization_time)
-        << "\ntotal_optimization_cpu_time," << num(r.total_optimization_cpu_time)
-        << "\nfinal_status," << toString(f.status) << "\nfinal_chi2," << num(f.final_chi2)
-        << "\nfinal_iterations," << f.iterations << "\nfinal_time," << num(f.total_time)
-        << "\nvehicle_marginals_time," << num(r.history_marginals.total_time)
-        << "\nlandmark_marginals_time," << num(r.landmark_marginals.total_time) << "\n";
+        << "\noptimizations," << r.optimizations << "\ntotal_optimization_time,"
+        << num(r.total_optimization_time) << "\ntotal_optimization_cpu_time,"
+        << num(r.total_optimization_cpu_time) << "\nfinal_status," << toString(f.status)
+        << "\nfinal_chi2," << num(f.final_chi2) << "\nfinal_iterations," << f.iterations
+        << "\nfinal_time," << num(f.total_time) << "\nvehicle_marginals_time,"
+        << num(r.history_marginals.total_time) << "\nlandmark_marginals_time,"
+        << num(r.landmark_marginals.total_time) << "\n";
   });
 }
 

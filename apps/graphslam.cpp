@@ -150,8 +150,9 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "iterations,i", po::value(&o.iterations)->default_value(100), "maximum iterations")(
       "algorithm", po::value(&o.algorithm)->default_value("auto"),
       "auto (Gauss-Newton, LM damping when a step fails), gn (Gauss-Newton), lm "
-      "(Levenberg-Marquardt) or dogleg (Powell's dogleg in a trust region)")("solver", po::value(&o.solver)->default_value("auto"),
-                               "linear solver (see graphslam list-solvers)")(
+      "(Levenberg-Marquardt) or dogleg (Powell's dogleg in a trust region)")(
+      "solver", po::value(&o.solver)->default_value("auto"),
+      "linear solver (see graphslam list-solvers)")(
       "plugin", po::value(&o.plugins)->composing(),
       "load types/solvers from this shared library (repeatable)")(
       "stats", po::value(&o.stats_file), "write per-iteration statistics as CSV")(
@@ -174,17 +175,14 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "quiet,q", "print only the summary")(
       "threads", po::value(&options.threads)->default_value(options.threads),
       "threads reading a .g2o file and evaluating errors and Jacobians (the result is the "
-      "same for every count)")(
-      "step-tolerance", doubleValue(&options.step_tolerance, options.step_tolerance),
-      "converged when the Euclidean norm of the update is below this")(
-      "function-tolerance",
-      doubleValue(&options.function_tolerance, options.function_tolerance),
+      "same for every count)")("step-tolerance",
+                               doubleValue(&options.step_tolerance, options.step_tolerance),
+                               "converged when the Euclidean norm of the update is below this")(
+      "function-tolerance", doubleValue(&options.function_tolerance, options.function_tolerance),
       "converged when chi2 falls by less than this fraction (0: off)")(
-      "lambda-init",
-      doubleValue(&options.initial_lambda_factor, options.initial_lambda_factor),
+      "lambda-init", doubleValue(&options.initial_lambda_factor, options.initial_lambda_factor),
       "LM initial damping factor")(
-      "lambda-decrease",
-      doubleValue(&options.min_lambda_decrease, options.min_lambda_decrease),
+      "lambda-decrease", doubleValue(&options.min_lambda_decrease, options.min_lambda_decrease),
       "LM: largest shrink of lambda after a good step (factor)")(
       "first-step", po::value(&o.first_step)->default_value("dogleg"),
       "default algorithm, when the first Gauss-Newton step raises chi2: dogleg (a dogleg "

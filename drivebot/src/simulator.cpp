@@ -117,22 +117,23 @@ void Simulator::start() {
 bool Simulator::keepRunning() const { return running_ && truth_.step < step_limit_; }
 
 long Simulator::automaticStepLimit() const {
-  const Eigen::Vector2d start =
-      config_.start_at_scenario_x0 ? Eigen::Vector2d(scenario_.x0.head<2>()) : Eigen::Vector2d::Zero();
+  const Eigen::Vector2d start = config_.start_at_scenario_x0
+                                    ? Eigen::Vector2d(scenario_.x0.head<2>())
+                                    : Eigen::Vector2d::Zero();
   double length = 0.0;
   Eigen::Vector2d from = start;
   for (const Eigen::Vector2d& wp : scenario_.waypoints) {
     length += (wp - from).norm();
     from = wp;
   }
-  const double steps = config_.path_step_factor * length /
-                           (std::max(config_.min_speed, 1e-3) * config_.dt) +
-                       static_cast<double>(config_.path_step_slack);
+  const double steps =
+      config_.path_step_factor * length / (std::max(config_.min_speed, 1e-3) * config_.dt) +
+      static_cast<double>(config_.path_step_slack);
   if (!(steps <= static_cast<double>(config_.max_automatic_steps))) {
     std::ostringstream msg;
     msg << "scenario '" << scenario_.name << "' (" << scenario_.source << "): its path through "
-        << scenario_.waypoints.size() << " waypoints is " << length << " m long, about "
-        << steps << " steps, more than the " << config_.max_automatic_steps
+        << scenario_.waypoints.size() << " waypoints is " << length << " m long, about " << steps
+        << " steps, more than the " << config_.max_automatic_steps
         << " a run may take without --max-steps (a waypoint too far away?)";
     throw InputError(msg.str());
   }

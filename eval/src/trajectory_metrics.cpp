@@ -5,10 +5,26 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 
 namespace graphslam::eval {
+
+bool poseRelationFromName(const std::string& name, PoseRelation* relation) {
+  static const std::map<std::string, PoseRelation> names = {
+      {"trans_part", PoseRelation::kTranslationPart},
+      {"rot_part", PoseRelation::kRotationPart},
+      {"angle_deg", PoseRelation::kRotationAngleDeg},
+      {"angle_rad", PoseRelation::kRotationAngleRad},
+      {"full", PoseRelation::kFullTransformation},
+      {"point_distance", PoseRelation::kPointDistance},
+      {"point_distance_error_ratio", PoseRelation::kPointDistanceErrorRatio}};
+  const auto it = names.find(name);
+  if (it == names.end()) return false;
+  *relation = it->second;
+  return true;
+}
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

@@ -6,12 +6,12 @@
 #include <fstream>
 
 #include "graphslam/drivebot/scenario.h"
-#include "graphslam/support/error.h"
-#include "graphslam/support/file_util.h"
 #include "graphslam/io/register.h"
 #include "graphslam/robust/register.h"
 #include "graphslam/solvers/options.h"
 #include "graphslam/solvers/register.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
 #include "graphslam/types_drivebot/register.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam3d/register.h"
@@ -32,7 +32,8 @@ std::shared_ptr<const solvers::CostModel> calibrationFromEnvironment() {
   const char* path = std::getenv(kCalibrationVariable);
   if (!path || !*path) return nullptr;
   std::ifstream in(path);
-  if (!in) throw InputError(support::cannotOpenMessage(path, errno) + " (" + kCalibrationVariable + ")");
+  if (!in)
+    throw InputError(support::cannotOpenMessage(path, errno) + " (" + kCalibrationVariable + ")");
   return std::make_shared<const solvers::CostModel>(solvers::CostModel::read(in, path));
 }
 

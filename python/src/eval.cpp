@@ -17,21 +17,12 @@ namespace {
 using namespace graphslam::eval;
 
 PoseRelation parseRelation(const std::string& r) {
-  static const std::map<std::string, PoseRelation> names = {
-      {"trans_part", PoseRelation::kTranslationPart},
-      {"rot_part", PoseRelation::kRotationPart},
-      {"angle_deg", PoseRelation::kRotationAngleDeg},
-      {"angle_rad", PoseRelation::kRotationAngleRad},
-      {"full", PoseRelation::kFullTransformation},
-      {"point_distance", PoseRelation::kPointDistance},
-      {"point_distance_error_ratio", PoseRelation::kPointDistanceErrorRatio}};
-  const auto it = names.find(r);
-  if (it == names.end()) {
-    throw py::value_error(
-        "pose_relation must be trans_part, rot_part, angle_deg, angle_rad, full, point_distance "
-        "or point_distance_error_ratio, not '" + r + "'");
+  PoseRelation relation{};
+  if (!poseRelationFromName(r, &relation)) {
+    throw py::value_error(std::string("pose_relation must be ") + kPoseRelationNames + ", not '" +
+                          r + "'");
   }
-  return it->second;
+  return relation;
 }
 
 DeltaUnit parseUnit(const std::string& u) {
@@ -108,9 +99,9 @@ EvalResult take(const std::string& metric, const R& r) {
   return e;
 }
 
-EvalResult ape(const py::handle& reference, const py::handle& estimate,
-               const std::string& relation, bool align, bool correct_scale, bool align_origin,
-               int n_to_align, double t_max_diff, double t_offset, const py::object& associate) {
+EvalResult ape(const py::handle& reference, const py::handle& estimate, const std::string& relation,
+               bool align, bool correct_scale, bool align_origin, int n_to_align, double t_max_diff,
+               double t_offset, const py::object& associate) {
   const Inputs in = inputs(reference, estimate);
   ApeOptions o;
   fillCommon(o, relation, align, correct_scale, align_origin, n_to_align, t_max_diff, t_offset,
@@ -123,11 +114,10 @@ EvalResult ape(const py::handle& reference, const py::handle& estimate,
   return take("ape", r);
 }
 
-EvalResult rpe(const py::handle& reference, const py::handle& estimate,
-               const std::string& relation, double delta, const std::string& delta_unit,
-               bool all_pairs, double rel_delta_tol, bool pairs_from_reference, bool align,
-               bool correct_scale, bool align_origin, int n_to_align, double t_max_diff,
-               double t_offset, const py::object& associate) {
+EvalResult rpe(const py::handle& reference, const py::handle& estimate, const std::string& relation,
+               double delta, const std::string& delta_unit, bool all_pairs, double rel_delta_tol,
+               bool pairs_from_reference, bool align, bool correct_scale, bool align_origin,
+               int n_to_align, double t_max_diff, double t_offset, const py::object& associate) {
   const Inputs in = inputs(reference, estimate);
   RpeOptions o;
   fillCommon(o, relation, align, correct_scale, align_origin, n_to_align, t_max_diff, t_offset,
@@ -158,39 +148,52 @@ void bindResult(py::module_& ev) {
                            "compared (associated, the estimate aligned).");
   c.def_readonly("metric", &EvalResult::metric, "\"ape\" or \"rpe\".");
   c.def_readonly("errors", &EvalResult::errors, "One error per pose (APE) or pair (RPE).");
-  c.def_property_readonly("statistics", [](const EvalResult& e) { return statsDict(e.statistics); },
-                          "{max, mean, median, min, rmse, sse, std} (std: population).");
-  c.def_property_readonly("rmse", [](const EvalResult& e) { return e.statistics.rmse; }, "sqrt(mean(e^2)).");
-  c.def_property_readonly("mean", [](const EvalResult& e) { return e.statistics.mean; }, "Mean error.");
-  c.def_property_readonly("median", [](const EvalResult& e) { return e.statistics.median; }, "Median error.");
-  c.def_property_readonly("max", [](const EvalResult& e) { return e.statistics.max; }, "Largest error.");
-  c.def_property_readonly("min", [](const EvalResult& e) { return e.statistics.min; }, "Smallest error.");
-  c.def_property_readonly("std", [](const EvalResult& e) { return e.statistics.std_dev; },
-                          "Population standard deviation.");
-  c.def_property_readonly("sse", [](const EvalResult& e) { return e.statistics.sse; }, "Sum of e^2.");
+  c.def_property_readonly(
+      "statistics", [](const EvalResult& e) { return statsDict(e.statistics); },
+      "{max, mean, median, min, rmse, sse, std} (std: population).");
+  c.def_property_readonly(
+      "rmse", [](const EvalResult& e) { return e.statistics.rmse; }, "sqrt(mean(e^2)).");
+  c.def_property_readonly(
+      "mean", [](const EvalResult& e) { return e.statistics.mean; }, "Mean error.");
+  c.def_property_readonly(
+      "median", [](const EvalResult& e) { return e.statistics.median; }, "Median error.");
+  c.def_property_readonly(
+      "max", [](const EvalResult& e) { return e.statistics.max; }, "Largest error.");
+  c.def_property_readonly(
+      "min", [](const EvalResult& e) { return e.statistics.min; }, "Smallest error.");
+  c.def_property_readonly(
+      "std", [](const EvalResult& e) { return e.statistics.std_dev; },
+      "Population standard deviation.");
+  c.def_property_readonly(
+      "sse", [](const EvalResult& e) { return e.statistics.sse; }, "Sum of e^2.");
   c.def_readonly("reference", &EvalResult::reference, "The associated reference (Trajectory).");
-  c.def_readonly("estimate", &EvalResult::estimate, "The associated, aligned estimate (Trajectory).");
+  c.def_readonly("estimate", &EvalResult::estimate,
+                 "The associated, aligned estimate (Trajectory).");
   c.def_property_readonly(
       "rotation", [](const EvalResult& e) { return toArray(e.umeyama.rotation); },
       "Umeyama rotation applied to the estimate (3 x 3; identity without alignment).");
   c.def_property_readonly(
-      "translation", [](const EvalResult& e) { return toArray(Eigen::MatrixXd(e.umeyama.translation)); },
+      "translation",
+      [](const EvalResult& e) { return toArray(Eigen::MatrixXd(e.umeyama.translation)); },
       "Umeyama translation (3 x 1).");
-  c.def_property_readonly("scale", [](const EvalResult& e) { return e.umeyama.scale; }, "Umeyama scale.");
+  c.def_property_readonly(
+      "scale", [](const EvalResult& e) { return e.umeyama.scale; }, "Umeyama scale.");
   c.def_property_readonly(
       "origin_transform", [](const EvalResult& e) { return toArray(e.origin_transform.matrix()); },
       "The align_origin transform applied (4 x 4).");
-  c.def_readonly("id_pairs", &EvalResult::id_pairs, "RPE: the compared index pairs (M, 2); None for APE.");
+  c.def_readonly("id_pairs", &EvalResult::id_pairs,
+                 "RPE: the compared index pairs (M, 2); None for APE.");
   c.def("__repr__", [](const EvalResult& e) {
-    return "<graphslam.eval.Result " + e.metric + " rmse " + std::to_string(e.statistics.rmse) + ", " +
-           std::to_string(e.errors.size()) + " errors>";
+    return "<graphslam.eval.Result " + e.metric + " rmse " + std::to_string(e.statistics.rmse) +
+           ", " + std::to_string(e.errors.size()) + " errors>";
   });
 }
 
 }  // namespace
 
 void bindEval(py::module_& m) {
-  py::module_ ev = m.def_submodule("eval", "Trajectory evaluation with evo's semantics (APE, RPE).");
+  py::module_ ev =
+      m.def_submodule("eval", "Trajectory evaluation with evo's semantics (APE, RPE).");
   bindResult(ev);
   const char* inputs =
       " `reference`, `estimate`: graphslam.Trajectory, a path (TUM .txt/.tum, KITTI .kitti, or a "
@@ -199,22 +202,26 @@ void bindEval(py::module_& m) {
       "involved or associate=False. align: SE(3) Umeyama (evo -a); correct_scale: Sim(3) with "
       "align, scale only without (evo -s); align_origin (evo --align_origin); n_to_align: "
       "Umeyama on the first N poses only.";
-  ev.def("ape", &ape, py::arg("reference"), py::arg("estimate"), py::arg("pose_relation") = "trans_part",
-         py::arg("align") = false, py::arg("correct_scale") = false, py::arg("align_origin") = false,
+  ev.def("ape", &ape, py::arg("reference"), py::arg("estimate"),
+         py::arg("pose_relation") = "trans_part", py::arg("align") = false,
+         py::arg("correct_scale") = false, py::arg("align_origin") = false,
          py::arg("n_to_align") = -1, py::arg("t_max_diff") = 0.01, py::arg("t_offset") = 0.0,
          py::arg("associate") = py::none(),
          (std::string("Absolute pose error as evo_ape computes it. pose_relation: trans_part "
-                      "(default), rot_part, angle_deg, angle_rad, full, point_distance.") + inputs)
+                      "(default), rot_part, angle_deg, angle_rad, full, point_distance.") +
+          inputs)
              .c_str());
-  ev.def("rpe", &rpe, py::arg("reference"), py::arg("estimate"), py::arg("pose_relation") = "trans_part",
-         py::arg("delta") = 1.0, py::arg("delta_unit") = "f", py::arg("all_pairs") = false,
-         py::arg("rel_delta_tol") = 0.1, py::arg("pairs_from_reference") = false,
-         py::arg("align") = false, py::arg("correct_scale") = false, py::arg("align_origin") = false,
+  ev.def("rpe", &rpe, py::arg("reference"), py::arg("estimate"),
+         py::arg("pose_relation") = "trans_part", py::arg("delta") = 1.0,
+         py::arg("delta_unit") = "f", py::arg("all_pairs") = false, py::arg("rel_delta_tol") = 0.1,
+         py::arg("pairs_from_reference") = false, py::arg("align") = false,
+         py::arg("correct_scale") = false, py::arg("align_origin") = false,
          py::arg("n_to_align") = -1, py::arg("t_max_diff") = 0.01, py::arg("t_offset") = 0.0,
          py::arg("associate") = py::none(),
          (std::string("Relative pose error as evo_rpe computes it: pairs `delta` apart in "
                       "delta_unit f (frames), m, rad or deg; all_pairs for every such pair. "
-                      "pose_relation as ape, plus point_distance_error_ratio.") + inputs)
+                      "pose_relation as ape, plus point_distance_error_ratio.") +
+          inputs)
              .c_str());
   ev.def(
       "statistics",
@@ -222,14 +229,17 @@ void bindEval(py::module_& m) {
         const Eigen::VectorXd e = vectorArg(errors, "the errors", -1);
         return statsDict(computeStatistics(std::vector<double>(e.data(), e.data() + e.size())));
       },
-      py::arg("errors"), "evo's statistics of an error array: {max, mean, median, min, rmse, sse, std}.");
+      py::arg("errors"),
+      "evo's statistics of an error array: {max, mean, median, min, rmse, sse, std}.");
   ev.def(
       "umeyama",
       [](const py::handle& x, const py::handle& y, bool with_scale) {
         const Eigen::MatrixXd a = matrixArg(x, "x", -1, 3), b = matrixArg(y, "y", -1, 3);
-        if (a.rows() != b.rows()) throw py::value_error("x and y must have the same number of points");
+        if (a.rows() != b.rows())
+          throw py::value_error("x and y must have the same number of points");
         const UmeyamaResult r = umeyamaAlignment(a.transpose(), b.transpose(), with_scale);
-        return py::make_tuple(toArray(r.rotation), toArray(Eigen::MatrixXd(r.translation)), r.scale);
+        return py::make_tuple(toArray(r.rotation), toArray(Eigen::MatrixXd(r.translation)),
+                              r.scale);
       },
       py::arg("x"), py::arg("y"), py::arg("with_scale") = false,
       "Least-squares (R, t, s) with y ~ s R x + t for point sets (N, 3) (Umeyama 1991, as evo).");

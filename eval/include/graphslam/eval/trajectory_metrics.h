@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -45,6 +46,13 @@ enum class PoseRelation {
   kPointDistance,           ///< APE: |p_est - p_ref|; RPE: | |dp_ref| - |dp_est| |
   kPointDistanceErrorRatio  ///< RPE only: point distance / |dp_ref| * 100 (percent)
 };
+
+/// evo's names of the pose relations, as its `-r` takes them, in a message's words.
+inline constexpr const char* kPoseRelationNames =
+    "trans_part, rot_part, angle_deg, angle_rad, full, point_distance or "
+    "point_distance_error_ratio";
+/// The relation evo calls `name` ("trans_part", ...); false when there is none.
+[[nodiscard]] bool poseRelationFromName(const std::string& name, PoseRelation* relation);
 
 /// Alignment of the estimate to the reference before computing errors.
 enum class AlignmentMode {
