@@ -32,7 +32,8 @@ void writeSteps(const std::string& path, const RunResult& r) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,time,waypoint,true_x,true_y,true_psi,x,y,psi,var_x,var_y,var_psi,online_x,"
            "online_y,online_psi,online_var_x,online_var_y,online_var_psi,optimized,chi2,"
-           "optimization_time,optimization_cpu_time,iterations,vertices,edges,observations,gps\n";
+           "optimization_time,optimization_cpu_time,iterations,vertices,edges,observations,gps,"
+           "compass\n";
     for (std::size_t k = 0; k < r.steps.size(); ++k) {
       const StepRecord& s = r.steps[k];
       out << s.step << ',' << num(s.time) << ',' << s.waypoint_index;
@@ -43,7 +44,8 @@ void writeSteps(const std::string& path, const RunResult& r) {
       for (int i = 0; i < 3; ++i) out << ',' << num(s.online_variance[i]);
       out << ',' << (s.optimized ? 1 : 0) << ',' << num(s.chi2) << ',' << num(s.optimization_time)
           << ',' << num(s.optimization_cpu_time) << ',' << s.iterations << ',' << s.vertices << ','
-          << s.edges << ',' << s.observations << ',' << (s.gps ? 1 : 0) << '\n';
+          << s.edges << ',' << s.observations << ',' << (s.gps ? 1 : 0) << ','
+          << (s.compass ? 1 : 0) << '\n';
     }
   });
 }
@@ -66,7 +68,8 @@ constexpr const char* kLandmarkHeader =
 
 void writeLoopClosure(const std::string& path, const LoopClosure& lc, const Scenario& scenario) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "phase,step,time,chi2,vehicle_x,vehicle_y,vehicle_psi,vehicle_det,closing_landmarks,"
+    out << "phase,step,time,chi2,vehicle_x,vehicle_y,vehicle_psi,vehicle_det,vehicle_cov_xx,"
+           "vehicle_cov_xy,vehicle_cov_yy,closing_landmarks,"
         << kLandmarkHeader;
     std::string closing;
     for (int id : lc.landmark_ids) closing += (closing.empty() ? "" : " ") + std::to_string(id);
@@ -75,8 +78,9 @@ void writeLoopClosure(const std::string& path, const LoopClosure& lc, const Scen
       prefix << (m == &lc.before ? "before" : "after") << ',' << m->step << ',' << num(m->time)
              << ',' << num(m->chi2) << ',' << num(m->vehicle[0]) << ',' << num(m->vehicle[1]) << ','
              << num(m->vehicle[2]) << ','
-             << num(m->vehicle_covariance.topLeftCorner<2, 2>().determinant()) << ',' << closing
-             << ',';
+             << num(m->vehicle_covariance.topLeftCorner<2, 2>().determinant()) << ','
+             << num(m->vehicle_covariance(0, 0)) << ',' << num(m->vehicle_covariance(0, 1)) << ','
+             << num(m->vehicle_covariance(1, 1)) << ',' << closing << ',';
       writeLandmarks(out, m->landmarks, scenario, prefix.str().c_str());
     }
   });

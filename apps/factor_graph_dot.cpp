@@ -76,7 +76,9 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
   // factor types is part of the title (an HTML label): neato ignores clusters.
   out << "graph factor_graph {\n  layout=neato; overlap=false; sep=\"+4\"; fontsize=12;\n"
       << "  node [fontsize=9, fontname=\"Helvetica\"];\n  edge [color=\"#666666\"];\n";
+  bool any_fixed = false;
   for (const auto& [id, v] : graph.vertices()) {
+    any_fixed = any_fixed || v->fixed();
     out << "  v" << id << " [shape=" << (v->fixed() ? "doublecircle" : "circle")
         << ", margin=0.02, width=0.45, style=filled, fillcolor="
         << (v->fixed() ? "\"#bbbbbb\"" : "\"#ffffff\"")
@@ -101,7 +103,8 @@ void writeFactorGraphDot(std::ostream& out, const Graph& graph, const TypeRegist
     ++k;
   }
   out << "  labelloc=t; label=<" << htmlEscaped(title)
-      << "<br/><font point-size=\"10\">circles: variables (grey: fixed); squares: factors";
+      << "<br/><font point-size=\"10\">circles: variables"
+      << (any_fixed ? " (grey double circle: fixed)" : " (none fixed)") << "; squares: factors";
   for (const auto& [tag, c] : color) {
     out << "&nbsp;&nbsp;<font color=\"" << c << "\">&#9632; " << htmlEscaped(tag) << "</font>";
   }

@@ -26,7 +26,8 @@ MapSnapshot snapshot(DriveBotSlamSystem& system, long step, double time, double 
   MapSnapshot m;
   m.step = step;
   m.time = time;
-  m.chi2 = chi2;
+  // An incremental update leaves the chi2 to the caller (Summary::final_chi2 is NaN).
+  m.chi2 = std::isnan(chi2) ? system.chi2() : chi2;
   m.vehicle = system.currentVehicleEstimate();
   m.marginals = system.landmarkEstimates(m.landmarks);
   (void)system.currentVehicleCovariance(m.vehicle_covariance);
@@ -76,6 +77,7 @@ RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const Ru
     for (const Event& e : events) {
       rec.observations += e.observations.size();
       rec.gps = rec.gps || e.type == EventType::kGps;
+      rec.compass = rec.compass || e.type == EventType::kCompass;
     }
 
     std::vector<int> closing;

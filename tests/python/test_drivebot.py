@@ -17,3 +17,20 @@ def test_short_run_with_gps():
     assert err.mean() < 3.0, err.mean()
     assert r.graph.counts().get("EDGE_GPS", 0) > 0
     assert r.final_chi2 > 0
+
+
+def test_optimizer_switch_gives_the_same_estimate():
+    """optimize_every=1 with either optimizer: same final chi2, the optimizer named."""
+    runs = {name: graphslam.drivebot.run("q1_b", sensors=["gps"], max_steps=200, seed=1,
+                                         optimize_every=1, optimizer=name)
+            for name in ("incremental", "batch")}
+    assert runs["incremental"].optimizer == "incremental"
+    assert runs["batch"].optimizer == "batch"
+    assert runs["batch"].optimizations == runs["incremental"].optimizations > 100
+    assert np.isclose(runs["batch"].final_chi2, runs["incremental"].final_chi2, rtol=1e-6)
+
+
+def test_unknown_optimizer_is_refused():
+    import pytest
+    with pytest.raises(ValueError, match="'incremental' or 'batch'"):
+        graphslam.drivebot.run("q1_b", max_steps=10, optimizer="isam")

@@ -78,10 +78,19 @@ def covariance_plot(steps, out_dir, title):
     save(fig, out_dir, "covariance.png")
 
 
+def step_kind(r):
+    """The richest event of a step: a GPS fix, landmark observations, a compass reading, or
+    none (prediction only)."""
+    if r.get("gps") == "1":
+        return "gps"
+    if r["observations"] != "0":
+        return "landmarks"
+    return "compass" if r.get("compass") == "1" else "prediction"
+
+
 # The coursework's kinds of step: its timing plots show one trend per kind.
-KINDS = [("GPS fix", "tab:blue", lambda r: r.get("gps") == "1"),
-         ("landmark observations", "tab:orange", lambda r: r.get("gps") != "1" and r["observations"] != "0"),
-         ("prediction only", "tab:green", lambda r: r.get("gps") != "1" and r["observations"] == "0")]
+KINDS = [("GPS fix", "tab:blue", "gps"), ("landmark observations", "tab:orange", "landmarks"),
+         ("compass only", "tab:purple", "compass"), ("prediction only", "tab:green", "prediction")]
 
 
 def chi2_plot(opt, out_dir, title, log):
@@ -102,8 +111,8 @@ def timing_plot(opt, out_dir, title):
     for ax, key, what in ((axes[0], "optimization_cpu_time", "thread CPU time"),
                           (axes[1], "optimization_time", "wall time")):
         top = 0.0
-        for name, color, is_kind in KINDS:
-            rows = [r for r in opt if is_kind(r)]
+        for name, color, kind in KINDS:
+            rows = [r for r in opt if step_kind(r) == kind]
             if not rows:
                 continue
             ms = [1e3 * v for v in column(rows, key)]
@@ -120,9 +129,12 @@ def timing_plot(opt, out_dir, title):
 
 def optimisation_plots(steps, summary, out_dir, title, log_chi2):
     opt = [r for r in steps if r["optimized"] == "1"]
-    if not opt:
-        why = (f"the run optimised only after its last step (chi2 {float(summary['final_chi2']):.6g}, "
-               f"{summary['final_iterations']} iterations, {1e3 * float(summary['final_time']):.1f} ms)")
+    if len(opt) < 2:  # one point is no series: said, not drawn
+        final = (f"after its last step (chi2 {float(summary['final_chi2']):.6g}, "
+                 f"{summary['final_iterations']} iterations, {1e3 * float(summary['final_time']):.1f} ms)")
+        once = "" if not opt else (f" and once during the run, at step {opt[0]['step']} (chi2 "
+                                   f"{float(opt[0]['chi2']):.6g}, {1e3 * float(opt[0]['optimization_cpu_time']):.2f} ms CPU)")
+        why = f"the run optimised only {final}{once}"
         for name in ("chi2.png", "optimization_time.png"):
             style.not_drawn(name, why, os.path.join(out_dir, name))
         return
@@ -178,7 +190,11 @@ def draw_map(ax, steps, scenario, landmarks, scale, upto=None, vehicle=None):
                 lw=1)
         ax.annotate(r["landmark"], (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
     if vehicle is not None:
-        ax.plot([vehicle[0]], [vehicle[1]], "o", color="tab:green", ms=5, label="vehicle")
+        x, y, cxx, cxy, cyy = vehicle
+        ax.plot([x], [y], "o", color="tab:green", ms=5, label="vehicle")
+        if not math.isnan(cxx):
+            ellipse(ax, x, y, cxx, cxy, cyy, scale, color="tab:green", lw=1)
+            ax.plot([], [], "-", color="tab:green", label="vehicle 3σ ellipse")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
@@ -213,7 +229,8 @@ def loop_closure_plot(steps, scenario, rows, out_dir, title):
         ax = fig.add_subplot(1, 3, k + 1)
         r0 = lms[0]
         draw_map(ax, steps, scenario, lms, scale, upto=int(r0["step"]),
-                 vehicle=(float(r0["vehicle_x"]), float(r0["vehicle_y"])))
+                 vehicle=tuple(float(r0[k]) for k in ("vehicle_x", "vehicle_y", "vehicle_cov_xx",
+                                                        "vehicle_cov_xy", "vehicle_cov_yy")))
         style.title(ax, f"{phase} the loop closure (step {r0['step']}, t = {float(r0['time']):.1f} s); "
                         f"3σ ellipses ×{scale:g}, chi2 {float(r0['chi2']):.3g}", fontsize=8)
         if k == 0:
@@ -264,9 +281,10 @@ def main():
     steps = read(os.path.join(out_dir, "steps.csv"))
     scenario = read(os.path.join(out_dir, "scenario.csv"))
     landmarks = read(os.path.join(out_dir, "landmarks.csv"))
+    summary = {r["quantity"]: r["value"] for r in read(os.path.join(out_dir, "summary.csv"))}
+    style.METADATA["graphslam-optimizer"] = summary.get("optimizer", "")
     errors_plot(steps, out_dir, title)
     covariance_plot(steps, out_dir, title)
-    summary = {r["quantity"]: r["value"] for r in read(os.path.join(out_dir, "summary.csv"))}
     optimisation_plots(steps, summary, out_dir, title, log_chi2)
     map_plot(steps, scenario, landmarks, out_dir, title)
     lc = os.path.join(out_dir, "loop_closure.csv")

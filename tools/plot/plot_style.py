@@ -58,6 +58,11 @@ def not_drawn(name, why, path=None):
     print(f"  {name} not drawn: {why}")
 
 
+# PNG text entries written into every figure (e.g. the optimizer a DriveBot run used, which
+# tests/docs/check_drivebot_figures.py compares with the command documented under it).
+METADATA = {}
+
+
 def save(fig, path, rect=None):
     """Lays out (titles included) and writes the figure, then closes it."""
     import matplotlib.pyplot as plt
@@ -66,7 +71,7 @@ def save(fig, path, rect=None):
         fig.tight_layout()
     else:
         fig.tight_layout(rect=rect)
-    fig.savefig(path, dpi=DPI)
+    fig.savefig(path, dpi=DPI, metadata=dict(METADATA) if path.endswith(".png") else None)
     plt.close(fig)
 
 
@@ -80,8 +85,10 @@ def chi2_axis(ax, values, log=False):
         ax.set_ylabel("chi2 [-] (log scale)")
         return
     if top < 1e-9:
-        ax.set_ylim(-1.0, 1.0)
-        ax.text(0.02, 0.9, f"chi2 at rounding level (largest {top:.2g}): the graph is exactly consistent",
-                transform=ax.transAxes, fontsize=8)
+        # chi2 is never negative: the axis starts at 0 and the note sits inside it.
+        ax.set_ylim(0.0, 1.0)
+        ax.text(0.02, 0.9, wrap(f"chi2 at rounding level (largest {top:.2g}): the graph is exactly consistent",
+                                0.9 * ax.get_position().width * ax.figure.get_figwidth(), 8),
+                transform=ax.transAxes, fontsize=8, va="top")
     else:
         ax.set_ylim(bottom=0, top=1.05 * top)

@@ -38,6 +38,7 @@ struct StepRecord {
   std::size_t edges = 0;
   std::size_t observations = 0;  ///< landmark observations in this step's events
   bool gps = false;              ///< this step's events include a GPS fix
+  bool compass = false;          ///< this step's events include a compass reading
 };
 
 struct RunOptions {
