@@ -55,8 +55,11 @@ def main():
         if len(points) > 1 and len(set(points)) == 1:
             # One point for all (the linear homework starts from zeros): say so, visibly.
             ax.plot([points[0][0]], [points[0][1]], "o", ms=10, mfc="none", color="tab:red")
-            ax.annotate(f"all {len(px)} poses and {len(qx)} landmarks at ({points[0][0]:g}, {points[0][1]:g})",
-                        points[0], textcoords="offset points", xytext=(10, 10), fontsize=9, color="tab:red")
+            # The note sits in the axes' top-left corner, wrapped to their width: never outside.
+            ax.text(0.02, 0.98, style.wrap(f"all {len(px)} poses and {len(qx)} landmarks at "
+                                           f"({points[0][0]:g}, {points[0][1]:g}) (circled)", 2.5, 9),
+                    transform=ax.transAxes, va="top", ha="left", fontsize=9, color="tab:red",
+                    bbox=dict(facecolor="white", edgecolor="none", alpha=0.8))
         ax.set_title(label)
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
