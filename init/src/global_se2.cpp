@@ -1,23 +1,22 @@
 // SPDX-License-Identifier: MIT
 #include "graphslam/init/global_se2.h"
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
-#include "graphslam/support/block_pattern.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam2d/vertex_xy.h"
+#include "pair_system.h"
 
 namespace graphslam::init {
 
@@ -25,111 +24,8 @@ using namespace graphslam::types_slam2d;
 
 namespace {
 
-using SpMat = Eigen::SparseMatrix<double>;
-
-/// A symmetric linear system over `n` variables of dimension 2, assembled straight into
-/// the linear solver interface's form: upper triangle in CSC, every stored 2x2 block
-/// complete (diagonal blocks full). The pattern holds every diagonal block and the blocks
-/// of the given pairs of variables.
-class PairSystem {
- public:
-  PairSystem(int n, const std::vector<std::pair<int, int>>& pairs)
-      : n_(n), pattern_(support::BlockPattern::fromPairs(n, pairs)) {
-    col_ptr_.assign(2 * static_cast<std::size_t>(n) + 1, 0);
-    row_idx_.reserve(4 * pattern_.rows.size());
-    for (int c = 0; c < n; ++c) {
-      for (int j = 0; j < 2; ++j) {
-        for (int k = pattern_.ptr[c]; k < pattern_.ptr[c + 1]; ++k) {
-          row_idx_.push_back(2 * pattern_.rows[k]);
-          row_idx_.push_back(2 * pattern_.rows[k] + 1);
-        }
-        col_ptr_[2 * c + j + 1] = static_cast<int>(row_idx_.size());
-      }
-    }
-    values_.assign(row_idx_.size(), 0.0);
-    rhs_ = Eigen::VectorXd::Zero(2 * n);
-  }
-
-  /// Adds m to the block of variables (r, c) (and so m^T to (c, r)).
-  void add(int r, int c, const Eigen::Matrix2d& m) {
-    if (r > c) {
-      add(c, r, m.transpose());
-      return;
-    }
-    const int k = pattern_.find(r, c) - pattern_.ptr[c];
-    const int stride = col_ptr_[2 * c + 1] - col_ptr_[2 * c];
-    double* v = values_.data() + col_ptr_[2 * c] + 2 * k;
-    v[0] += m(0, 0);
-    v[1] += m(1, 0);
-    v[stride] += m(0, 1);
-    v[stride + 1] += m(1, 1);
-  }
-  Eigen::VectorXd& rhs() { return rhs_; }
-  [[nodiscard]] const Eigen::VectorXd& rhs() const { return rhs_; }
-  [[nodiscard]] int unknowns() const { return 2 * n_; }
-  [[nodiscard]] const std::vector<int>& colPtr() const { return col_ptr_; }
-  [[nodiscard]] const std::vector<int>& rowIdx() const { return row_idx_; }
-  [[nodiscard]] const std::vector<double>& values() const { return values_; }
-
- private:
-  int n_;
-  support::BlockPattern pattern_;       // upper block pattern
-  std::vector<int> col_ptr_, row_idx_;  // scalar pattern
-  std::vector<double> values_;
-  Eigen::VectorXd rhs_;
-};
-
-/// Solves symmetric positive definite PairSystems with `solver`, or with Eigen's
-/// simplicial LDL^T when it is null. A system with the pattern of the previous one reuses
-/// its symbolic analysis (ordering and all): a pose graph's orientation and position
-/// systems share theirs.
-class SpdSolver {
- public:
-  explicit SpdSolver(LinearSolver* solver) : solver_(solver) {}
-
-  /// False on failure.
-  bool solve(const PairSystem& sys, Eigen::VectorXd& x) {
-    const int n = sys.unknowns();
-    x.resize(n);
-    const bool same = analyzed_ && sys.colPtr() == col_ptr_ && sys.rowIdx() == row_idx_;
-    if (!same) {
-      // The solver reads these arrays until its next analysis: they live here.
-      col_ptr_ = sys.colPtr();
-      row_idx_ = sys.rowIdx();
-      analyzed_ = false;
-    }
-    if (!solver_) {
-      const Eigen::Map<const SpMat> a(n, n, static_cast<Eigen::Index>(row_idx_.size()),
-                                      col_ptr_.data(), row_idx_.data(), sys.values().data());
-      if (!same) ldlt_.analyzePattern(a);
-      analyzed_ = true;
-      ldlt_.factorize(a);
-      if (ldlt_.info() != Eigen::Success) return false;
-      x = ldlt_.solve(sys.rhs());
-      return ldlt_.info() == Eigen::Success && x.allFinite();
-    }
-    if (!same) {
-      block_starts_.clear();
-      for (int c = 0; c <= n; c += 2) block_starts_.push_back(c);
-      SparseStructure st;
-      st.n = n;
-      st.col_ptr = col_ptr_.data();
-      st.row_idx = row_idx_.data();
-      st.block_starts = block_starts_.data();
-      st.num_blocks = n / 2;
-      analyzed_ = solver_->analyze(st).ok();
-      if (!analyzed_) return false;
-    }
-    return solver_->factorize(sys.values().data()).ok() &&
-           solver_->solve(sys.rhs().data(), x.data()).ok() && x.allFinite();
-  }
-
- private:
-  LinearSolver* solver_;
-  Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt_;
-  std::vector<int> col_ptr_, row_idx_, block_starts_;
-  bool analyzed_ = false;
-};
+using detail::PairSystem;
+using detail::SpdSolver;
 
 /// Adds the residual sum_k M_k x_k - c, weighted by w I, to `sys`: terms with an unknown
 /// index < 0 are known values (moved to the right-hand side).
@@ -410,12 +306,10 @@ std::vector<VertexXY*> freeLandmarks(Graph& graph, const Problem& p,
 }
 
 /// Step 1 of initializeGlobal without landmark observations: the relaxed rotations of
-/// the free poses (var >= 0) from the relative-pose edges and priors alone. Updates theta;
-/// false when the system is singular.
-bool odometryOrientations(const Problem& p, const std::vector<int>& var, int nv,
-                          const std::vector<std::pair<int, int>>& pairs, std::vector<double>& theta,
-                          SpdSolver& spd) {
-  PairSystem sys(nv, pairs);
+/// the free poses (var >= 0) from the relative-pose edges and priors alone, in `sys` (the
+/// pattern of the pose pairs, zero). Updates theta; false when the system is singular.
+bool odometryOrientations(const Problem& p, const std::vector<int>& var, PairSystem& sys,
+                          std::vector<double>& theta, SpdSolver& spd) {
   Eigen::VectorXd& rhs = sys.rhs();
   for (std::size_t k = 0; k < p.relative.size(); ++k) {
     const EdgeSE2* edge = p.relative[k];
@@ -463,12 +357,14 @@ void addDifference(PairSystem& sys, int a, const Eigen::Vector2d& xa, int b,
 
 /// Step 2 of initializeGlobal: translations of the free poses (var >= 0) and positions of
 /// the free landmarks (unknown nv + their index), orientations held at theta. `pairs`
-/// holds the pose pairs; the pose-landmark pairs are added here. Sets the estimates and
-/// counts them in `report`; false when the system is singular.
+/// holds the pose pairs; the pose-landmark pairs are added here. Without landmarks the
+/// system is laid out in `pose_system` when it is given (the orientations' system, of the
+/// same pattern: laid out once). Sets the estimates and counts them in `report`; false
+/// when the system is singular.
 bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
                     const std::vector<VertexXY*>& landmarks, const std::vector<int>& obs_landmark,
                     std::vector<std::pair<int, int>> pairs, const std::vector<double>& theta,
-                    SpdSolver& spd, InitializationReport& report) {
+                    PairSystem* pose_system, SpdSolver& spd, InitializationReport& report) {
   std::vector<int> obs_var(p.observations.size(), -1);  // the landmark's unknown, -1: fixed
   for (std::size_t k = 0; k < p.observations.size(); ++k) {
     if (obs_landmark[k] < 0) continue;
@@ -478,7 +374,13 @@ bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
   }
   const int nt = nv + static_cast<int>(landmarks.size());
   if (nt == 0) return true;
-  PairSystem sys(nt, pairs);
+  std::optional<PairSystem> own;
+  if (pose_system && landmarks.empty()) {
+    pose_system->clear();
+  } else {
+    own.emplace(nt, pairs);
+  }
+  PairSystem& sys = own ? *own : *pose_system;
   auto pos = [&](int i) { return p.poses[i]->estimate().translation(); };
   for (std::size_t k = 0; k < p.relative.size(); ++k) {
     const EdgeSE2* edge = p.relative[k];
@@ -579,16 +481,26 @@ InitializationReport initializeGlobalWeighted(Graph& graph, LinearSolver* solver
       report.message = "orientation system (with landmarks) is singular: initial estimates kept";
       return report;
     }
-  } else if (nv > 0 && !odometryOrientations(p, var, nv, pairs, theta, spd)) {
-    report.message = "orientation system is singular: initial estimates kept";
-    return report;
+  }
+  // Without landmark observations both steps solve a system of the pose pairs' pattern.
+  std::optional<PairSystem> pose_system;
+  if (nv > 0 && p.observations.empty()) {
+    pose_system.emplace(nv, pairs);
+    if (!odometryOrientations(p, var, *pose_system, theta, spd)) {
+      report.message = "orientation system is singular: initial estimates kept";
+      report.analysis_seconds = spd.analysisSeconds();
+      return report;
+    }
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
-  if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta, spd, report)) {
+  if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta,
+                      pose_system ? &*pose_system : nullptr, spd, report)) {
     report.message = "position system is singular: initial estimates kept";
+    report.analysis_seconds = spd.analysisSeconds();
     return report;
   }
+  report.analysis_seconds = spd.analysisSeconds();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }

@@ -19,9 +19,14 @@ namespace graphslam::init {
 namespace {
 std::string describe(const char* kind, const InitializationReport& r) {
   if (!r.message.empty()) return r.message;
-  char text[160];
-  std::snprintf(text, sizeof text, "%s, %zu poses and %zu landmarks placed in %.4f s", kind,
-                r.poses, r.landmarks, r.seconds);
+  char text[200];
+  const int n = std::snprintf(text, sizeof text, "%s, %zu poses and %zu landmarks placed in %.4f s",
+                              kind, r.poses, r.landmarks, r.seconds);
+  if (r.analysis_seconds > 0.0 && n > 0 && static_cast<std::size_t>(n) < sizeof text) {
+    // The ordering is the pose graph's: a solver sharing the ordering cache reuses it.
+    std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
+                  " (%.4f s of it ordering and analysing the pose graph)", r.analysis_seconds);
+  }
   return text;
 }
 

@@ -331,9 +331,11 @@ std::uint64_t fingerprint(const BlockGraph& g) {
   return h;
 }
 
-/// Whether `cache` keeps the orderings of `g`.
-bool cached(const OrderingCache* cache, const BlockGraph& g) {
-  return cache && g.num_blocks >= cache->options().min_blocks;
+/// Whether `cache` keeps the `ordering` (AMD or METIS) of `g`.
+bool cached(const OrderingCache* cache, const BlockGraph& g, Ordering ordering) {
+  if (!cache) return false;
+  return g.num_blocks >= (ordering == Ordering::kMetis ? cache->options().metis_min_blocks
+                                                       : cache->options().min_blocks);
 }
 
 /// The AMD or METIS block ordering of `g`, looked up in `cache` and kept there.
@@ -359,7 +361,7 @@ std::vector<int> cachedBlockOrdering(Ordering ordering, const BlockGraph& g, Ord
 std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const BlockGraph& g,
                               OrderingCache* cache) {
   const bool amd = ordering == Ordering::kAmd || ordering == Ordering::kDefault;
-  if ((ordering == Ordering::kMetis || amd) && cached(cache, g)) {
+  if ((ordering == Ordering::kMetis || amd) && cached(cache, g, ordering)) {
     return expand(cachedBlockOrdering(amd ? Ordering::kAmd : ordering, g, *cache), s.block_starts,
                   s.n);
   }
@@ -368,7 +370,7 @@ std::vector<int> orderColumns(Ordering ordering, const SparseStructure& s, const
 
 std::vector<int> orderColumnsAmd(const SparseStructure& s, const BlockGraph& g, double* block_work,
                                  OrderingCache* cache) {
-  if (cached(cache, g)) {
+  if (cached(cache, g, Ordering::kAmd)) {
     if (block_work) *block_work = -1.0;
     return orderColumns(Ordering::kAmd, s, g, cache);
   }

@@ -132,6 +132,33 @@ TEST(Solvers_Ordering, LargeBlockGraphsKeepTheirOrderingAcrossBlockSizes) {
   }
 }
 
+TEST(Solvers_Ordering, MetisOrderingsOfSmallerGraphsAreKeptToo) {
+  // METIS costs tens of milliseconds from a few thousand blocks on: the initial guess and
+  // the optimizer of a 10000-pose graph share it from metis_min_blocks on (AMD's orderings
+  // only from min_blocks). Each block size still gets its own graph's ordering.
+  if (!solvers::haveSuiteSparse()) GTEST_SKIP() << "METIS needs SuiteSparse";
+  solvers::OrderingCache cache;
+  ASSERT_LE(cache.options().metis_min_blocks, 3000);
+  ASSERT_GT(cache.options().min_blocks, 3000);
+  const BlockRowsPattern two = largeBlockPattern(3000, 2, 7), three = largeBlockPattern(3000, 3, 7),
+                         other = largeBlockPattern(3000, 3, 8);
+  const auto blocks_of = [](const std::vector<int>& perm, int bs) {
+    std::vector<int> order;
+    for (std::size_t k = 0; k < perm.size(); k += static_cast<std::size_t>(bs)) {
+      order.push_back(perm[k] / bs);
+    }
+    return order;
+  };
+  const auto metis = [&](const BlockRowsPattern& p, int bs, solvers::OrderingCache* c) {
+    return blocks_of(solvers::fillReducingOrdering(Ordering::kMetis, p.structure(), c), bs);
+  };
+  const auto p2 = metis(two, 2, &cache);
+  EXPECT_EQ(metis(three, 3, &cache), p2);
+  EXPECT_EQ(metis(three, 3, nullptr), p2);
+  EXPECT_NE(metis(other, 3, &cache), p2);
+  EXPECT_EQ(metis(other, 3, &cache), metis(other, 3, nullptr));
+}
+
 TEST(Solvers_Ordering, AmdEliminatesChainsRingsAndLeavesWithoutExtraFill) {
   // Blocks of at most two neighbours are eliminated before AMD orders the rest. Components:
   // a ring of 30 with a chain of 10 hanging from it (fill 2 * 30 - 3 + 10), a triangle

@@ -15,6 +15,10 @@ struct InitializationReport {
   std::size_t poses = 0;      ///< VertexSE2 estimates replaced
   std::size_t landmarks = 0;  ///< VertexXY estimates replaced
   double seconds = 0.0;
+  /// Of `seconds`, those of the linear solver's analyses: its fill-reducing ordering of the
+  /// pose graph, which a solver sharing its OrderingCache (the optimizer's, in the tool)
+  /// reuses, included.
+  double analysis_seconds = 0.0;
   std::string message;  ///< empty on success; says what was skipped otherwise
 };
 

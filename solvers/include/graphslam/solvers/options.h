@@ -17,15 +17,19 @@ struct OrderingCacheOptions {
   /// Below, an ordering costs less than comparing the graph with the kept one is worth
   /// the memory; above, AMD and METIS take seconds on a million blocks.
   int min_blocks = 50000;
+  /// METIS orderings are kept from this many blocks on: METIS takes tens of milliseconds on
+  /// a 10000-block pose graph (more than the initial guess's two factorisations of it),
+  /// the fingerprint that recognises the graph again a few microseconds.
+  int metis_min_blocks = 2000;
 };
 
 /// Block orderings (AMD and METIS, one of each: the most recent block graph) of large
-/// block graphs, kept for the next request with the same graph. The SE(2) global initial
-/// guess (2x2 blocks) and the optimizer (3x3 blocks) order one pose graph: solvers that
-/// share a cache compute its orderings once. The cache is the caller's object: nothing is
-/// kept between solvers that do not share one. Thread safe; a graph is recognised by a
-/// 64-bit fingerprint of its pattern (a collision could only cost fill: every permutation
-/// of the blocks is a valid ordering).
+/// block graphs (METIS's of smaller ones too), kept for the next request with the same
+/// graph. The SE(2) global initial guess (2x2 blocks) and the optimizer (3x3 blocks) order
+/// one pose graph: solvers that share a cache compute its orderings once. The cache is the
+/// caller's object: nothing is kept between solvers that do not share one. Thread safe; a
+/// graph is recognised by a 64-bit fingerprint of its pattern (a collision could only cost
+/// fill: every permutation of the blocks is a valid ordering).
 class OrderingCache {
  public:
   explicit OrderingCache(OrderingCacheOptions options = {});
