@@ -55,9 +55,11 @@ Summary toOptimizerSummary(const submap::Summary& s) {
 
 }  // namespace
 
-Summary runSubmapSolver(Graph& graph, int submaps, const Optimizer::Options& options, bool quiet,
+Summary runSubmapSolver(Graph& graph, const SolverRegistry& solvers, int submaps,
+                        const Optimizer::Options& options, bool quiet,
                         std::vector<std::string>& csv) {
   submap::Options so;
+  if (solvers.contains(so.separator_solver)) so.solvers = &solvers;
   so.partition.num_submaps = submaps;
   so.max_iterations = options.max_iterations;
   so.function_tolerance = options.function_tolerance;

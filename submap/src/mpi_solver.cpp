@@ -90,7 +90,7 @@ class MpiEngine final : public detail::Engine {
         size_(size),
         mine_(submapsOfRank(partition, rank, size)),
         submaps_(partition, mine_, options.threads, options.keep_factorizations),
-        separator_(partition),
+        separator_(partition, rank == 0 ? options.solvers : nullptr, options.separator_solver),
         estimates_(partition) {}
 
   detail::Cost cost() override {

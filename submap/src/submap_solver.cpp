@@ -23,7 +23,7 @@ class LocalEngine final : public detail::Engine {
   LocalEngine(const Partition& partition, const Options& options)
       : partition_(partition),
         submaps_(partition, allIndices(partition), options.threads, options.keep_factorizations),
-        separator_(partition),
+        separator_(partition, options.solvers, options.separator_solver),
         estimates_(partition) {}
 
   detail::Cost cost() override {

@@ -5,6 +5,10 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 
+#ifdef GRAPHSLAM_SUBMAP_HAVE_CAMD
+#include <camd.h>
+#endif
+
 #include "graphslam/core/edge.h"
 
 namespace graphslam::submap::detail {
@@ -21,12 +25,50 @@ struct SubmapSystem::Local {
   double max_diagonal = 0.0;
 };
 
-/// The factorisation of A with what back-substitution needs.
+/// The factorisation of A in the submap's elimination order (P A P^T = L L^T, natural order
+/// inside the factorisation) with what back-substitution needs.
 struct SubmapSystem::Factor {
-  Eigen::SimplicialLLT<SparseMatrix, Eigen::Upper, Eigen::AMDOrdering<int>> llt;
-  SparseMatrix b;
+  Eigen::SimplicialLLT<SparseMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>> llt;
+  SparseMatrix b;  ///< P B
   Eigen::VectorXd g_interior;
 };
+
+namespace {
+
+/// The elimination order of A: approximate minimum degree, with the rows B touches (the
+/// interior vertices next to the separator) constrained to the end when CAMD is available,
+/// so that L^-1 P B fills only the trailing rows. indices()[old] = new.
+Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> eliminationOrder(
+    const SparseMatrix& a_upper, const SparseMatrix& b) {
+  const auto n = static_cast<int>(a_upper.rows());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p(n);
+#ifdef GRAPHSLAM_SUBMAP_HAVE_CAMD
+  std::vector<int> constraint(static_cast<std::size_t>(n), 0), order(static_cast<std::size_t>(n));
+  for (int k = 0; k < b.outerSize(); ++k) {
+    for (SparseMatrix::InnerIterator it(b, k); it; ++it)
+      constraint[static_cast<std::size_t>(it.row())] = 1;
+  }
+  if (std::find(constraint.begin(), constraint.end(), 0) == constraint.end()) {
+    std::fill(constraint.begin(), constraint.end(), 0);  // CAMD needs sets numbered below n
+  }
+  const int status = camd_order(n, a_upper.outerIndexPtr(), a_upper.innerIndexPtr(), order.data(),
+                                nullptr, nullptr, constraint.data());
+  if (status >= CAMD_OK) {
+    for (int k = 0; k < n; ++k) p.indices()[order[static_cast<std::size_t>(k)]] = k;
+    return p;
+  }
+#else
+  (void)b;
+#endif
+  Eigen::AMDOrdering<int> amd;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+  const SparseMatrix full = a_upper.selfadjointView<Eigen::Upper>();
+  amd(full, inverse);  // Eigen's orderings give the inverse: indices()[new] = old
+  p = inverse.inverse();
+  return p;
+}
+
+}  // namespace
 
 SubmapSystem::SubmapSystem(const Partition& partition, int index, bool keep_factorization)
     : partition_(&partition),
@@ -179,16 +221,20 @@ void SubmapSystem::assemble(Local& local, double lambda) const {
 }
 
 std::unique_ptr<SubmapSystem::Factor> SubmapSystem::factorize(const Local& local,
-                                                              std::string& message) const {
+                                                              std::string& message) {
   const int di = submap_->interior_dimension, ds = submap_->separator_dimension;
   auto f = std::make_unique<Factor>();
-  SparseMatrix a(di, di);
+  SparseMatrix a(di, di), b(di, ds);
   a.setFromTriplets(local.a.begin(), local.a.end());
-  f->b.resize(di, ds);
-  f->b.setFromTriplets(local.b.begin(), local.b.end());
+  b.setFromTriplets(local.b.begin(), local.b.end());
   f->g_interior = local.g_interior;
   if (di == 0) return f;
-  f->llt.compute(a);
+  if (order_.size() != di) order_ = eliminationOrder(a, b);  // the structure never changes
+  f->b = order_ * b;
+  f->g_interior = order_ * local.g_interior;
+  SparseMatrix permuted(di, di);
+  permuted.selfadjointView<Eigen::Upper>() = a.selfadjointView<Eigen::Upper>().twistedBy(order_);
+  f->llt.compute(permuted);
   if (f->llt.info() != Eigen::Success) {
     const auto& v = submap_->interior;
     message = "submap " + std::to_string(index_) + " (" + std::to_string(v.size()) +
@@ -200,6 +246,35 @@ std::unique_ptr<SubmapSystem::Factor> SubmapSystem::factorize(const Local& local
   }
   return f;
 }
+
+namespace {
+
+/// schur -= Y^T Y and reduced -= Y^T z for Y = L^-1 P B, z = L^-1 P g_I. Y is zero above its
+/// first non-zero row (L is lower triangular and P puts the rows B touches last), so the
+/// rows below are taken dense when they fit in max_dense doubles, the product by BLAS-3.
+void subtractProjection(const SparseMatrix& y, const Eigen::VectorXd& z, Eigen::MatrixXd& schur,
+                        Eigen::VectorXd& reduced) {
+  const auto rows = y.rows(), cols = y.cols();
+  Eigen::Index first = rows;
+  for (Eigen::Index k = 0; k < y.outerSize(); ++k) {
+    for (SparseMatrix::InnerIterator it(y, k); it; ++it) first = std::min(first, it.row());
+  }
+  const Eigen::Index height = rows - first;
+  if (height * cols <= 16 * cols * std::max<Eigen::Index>(cols, 64)) {
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(height, cols);
+    for (Eigen::Index k = 0; k < y.outerSize(); ++k) {
+      for (SparseMatrix::InnerIterator it(y, k); it; ++it) dense(it.row() - first, k) = it.value();
+    }
+    schur.selfadjointView<Eigen::Lower>().rankUpdate(dense.transpose(), -1.0);
+    schur.triangularView<Eigen::StrictlyUpper>() = schur.transpose();
+    reduced.noalias() -= dense.transpose() * z.tail(height);
+    return;
+  }
+  schur -= Eigen::MatrixXd(SparseMatrix(y.transpose() * y));
+  reduced.noalias() -= y.transpose() * z;
+}
+
+}  // namespace
 
 Contribution SubmapSystem::eliminate(double lambda) {
   Contribution out;
@@ -217,14 +292,11 @@ Contribution SubmapSystem::eliminate(double lambda) {
   out.schur = std::move(local.c);
   out.reduced = local.g_separator;
   if (submap_->interior_dimension > 0 && submap_->separator_dimension > 0) {
-    // Y = L^-1 P B (sparse), so that B^T A^-1 B = Y^T Y; z = L^-1 P g_I.
-    SparseMatrix y = f->llt.permutationP() * f->b;
+    SparseMatrix y = f->b;
     f->llt.matrixL().solveInPlace(y);
-    Eigen::VectorXd z = f->llt.permutationP() * f->g_interior;
+    Eigen::VectorXd z = f->g_interior;
     f->llt.matrixL().solveInPlace(z);
-    const SparseMatrix yty = (y.transpose() * y).pruned();
-    out.schur -= Eigen::MatrixXd(yty);
-    out.reduced.noalias() -= y.transpose() * z;
+    subtractProjection(y, z, out.schur, out.reduced);
   }
   if (keep_factorization_) kept_ = std::move(f);
   return out;
@@ -254,7 +326,7 @@ bool SubmapSystem::backSubstitute(const Eigen::VectorXd& separator_step, double 
   }
   Eigen::VectorXd rhs = -f->g_interior;
   if (separator_step.size() > 0) rhs.noalias() -= f->b * separator_step;
-  interior_step = f->llt.solve(rhs);
+  interior_step = order_.transpose() * f->llt.solve(rhs);
   return true;
 }
 

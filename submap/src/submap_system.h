@@ -70,7 +70,7 @@ class SubmapSystem {
   struct Local;
   struct Factor;
   void assemble(Local& local, double lambda) const;
-  [[nodiscard]] std::unique_ptr<Factor> factorize(const Local& local, std::string& message) const;
+  [[nodiscard]] std::unique_ptr<Factor> factorize(const Local& local, std::string& message);
 
   const Partition* partition_;
   const Submap* submap_;
@@ -78,6 +78,8 @@ class SubmapSystem {
   bool keep_factorization_;
   /// Column of each vertex: interior columns >= 0, separator columns encoded as -2 - col.
   std::unordered_map<const Vertex*, int> columns_;
+  /// The elimination order of the interior (indices()[old] = new), computed once.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order_;
   std::unique_ptr<Factor> kept_;
   std::vector<double> saved_;
 };

@@ -75,7 +75,7 @@ submap::Options tightSubmaps(int k, int threads = 2) {
 /// Runs the direct path on a copy-by-rebuild (`make` twice) and the submap solver, and
 /// checks the same optimum to 1e-6.
 template <class Make>
-void expectSameOptimum(const Make& make, int k) {
+void expectSameOptimum(const Make& make, int k, bool cholmod = false) {
   SolverRegistry solvers;
   solvers::registerSolvers(solvers);
   support::setLogLevel(support::LogLevel::kError);
@@ -84,7 +84,12 @@ void expectSameOptimum(const Make& make, int k) {
   const Summary ds = optimizer.optimize();
   ASSERT_TRUE(ds.succeeded()) << ds.message;
   Graph split = make();
-  const submap::Summary ss = submap::SubmapSolver(split, tightSubmaps(k)).optimize();
+  submap::Options so = tightSubmaps(k);
+  if (cholmod) {
+    if (!solvers.contains("cholmod")) GTEST_SKIP() << "no cholmod in this build";
+    so.solvers = &solvers;
+  }
+  const submap::Summary ss = submap::SubmapSolver(split, so).optimize();
   ASSERT_TRUE(ss.succeeded()) << ss.report();
   EXPECT_NEAR(ss.final_chi2, ds.final_chi2, 1e-6 * ds.final_chi2) << ss.report();
   EXPECT_LT(maxDifference(estimates(direct), estimates(split)), 1e-6);
@@ -104,6 +109,10 @@ Graph manhattan(int poses, int landmarks = 0) {
 
 TEST(Submap_Solver, SameOptimumAsDirectPathOnSimulated2D) {
   expectSameOptimum([] { return manhattan(1500); }, 5);
+}
+
+TEST(Submap_Solver, SameOptimumWithTheSeparatorSystemByCholmod) {
+  expectSameOptimum([] { return manhattan(1500); }, 5, true);
 }
 
 TEST(Submap_Solver, SameOptimumWithLandmarks) {

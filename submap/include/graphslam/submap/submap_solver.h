@@ -79,6 +79,11 @@ struct Options {
   /// factor in memory at once. Off: memory holds the largest submaps being worked on (one
   /// per thread) plus the separator system.
   bool keep_factorizations = false;
+  /// The separator system's factorisation: `separator_solver` of `solvers` (a sparse
+  /// Cholesky that takes the matrix in its given order: "cholmod", supernodal, fits the
+  /// dense blocks the submaps leave there), or Eigen's simplicial LL^T when `solvers` is null.
+  const SolverRegistry* solvers = nullptr;
+  std::string separator_solver = "cholmod";
   std::function<void(const IterationStats&)> callback;
 };
 
