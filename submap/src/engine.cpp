@@ -45,10 +45,19 @@ void LocalSubmaps::linearize() {
   for (char c : in_place) serial_ = serial_ || c != 0;
 }
 
-std::vector<Contribution> LocalSubmaps::eliminate(double lambda) {
-  std::vector<Contribution> out(systems_.size());
-  forEach([&](std::size_t k) { out[k] = systems_[k].eliminate(lambda); });
-  return out;
+void LocalSubmaps::eliminate(double lambda,
+                             const std::function<void(std::size_t, Contribution&)>& sink) {
+  const std::size_t wave = serial_ ? 1 : static_cast<std::size_t>(pool_.threads());
+  for (std::size_t first = 0; first < systems_.size(); first += wave) {
+    std::vector<Contribution> out(std::min(wave, systems_.size() - first));
+    pool_.parallelFor(out.size(), 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) out[k] = systems_[first + k].eliminate(lambda);
+    });
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      sink(first + k, out[k]);
+      out[k] = Contribution{};
+    }
+  }
 }
 
 std::vector<Contribution> LocalSubmaps::gradients() {

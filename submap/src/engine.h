@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -55,7 +56,10 @@ class LocalSubmaps {
   /// Objective and raw chi2 per held submap.
   std::vector<Cost> costs();
   void linearize();
-  std::vector<Contribution> eliminate(double lambda);
+  /// Eliminates the held submaps (damping lambda) in waves of one submap per thread and
+  /// hands each contribution to `sink` in submap order, then frees it: the dense separator
+  /// blocks of at most one wave are in memory at once.
+  void eliminate(double lambda, const std::function<void(std::size_t, Contribution&)>& sink);
   std::vector<Contribution> gradients();
   /// Back-substitutes every held submap for the separator step (the whole separator's
   /// columns) and applies the interior steps; adds |dx_I|^2 to `squared_norm`. On a failure

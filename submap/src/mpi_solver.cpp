@@ -120,7 +120,12 @@ class MpiEngine final : public detail::Engine {
   }
 
   double gradientNorm() override {
-    gatherToRoot(submaps_.gradients(), /*gradient_only=*/true);
+    std::vector<double> send;
+    for (const auto& c : submaps_.gradients()) {
+      send.push_back(c.interior_gradient_squared);
+      send.insert(send.end(), c.gradient.data(), c.gradient.data() + c.gradient.size());
+    }
+    gatherToRoot(send, /*gradient_only=*/true);
     double norm = 0.0;
     if (rank_ == 0) norm = std::sqrt(interior_squared_ + separator_.gradientSquared());
     broadcast(&norm, 1);
@@ -150,7 +155,7 @@ class MpiEngine final : public detail::Engine {
   /// Sends this rank's contributions to rank 0, which adds them to the separator system
   /// in submap order (and sums |g_I|^2 and the largest diagonal entry). Returns on rank 0
   /// the first submap whose interior did not factorise (-1 when none).
-  int gatherToRoot(const std::vector<detail::Contribution>& local, bool gradient_only);
+  int gatherToRoot(const std::vector<double>& send, bool gradient_only);
   std::vector<double> gatherv(const std::vector<double>& send,
                               const std::vector<std::size_t>& submap_sizes);
 
@@ -180,21 +185,11 @@ std::vector<double> MpiEngine::gatherv(const std::vector<double>& send,
   return recv;
 }
 
-int MpiEngine::gatherToRoot(const std::vector<detail::Contribution>& local, bool gradient_only) {
+int MpiEngine::gatherToRoot(const std::vector<double>& send, bool gradient_only) {
   std::vector<std::size_t> sizes;
   for (const Submap& s : partition_.submaps) {
     const auto d = static_cast<std::size_t>(s.separator_dimension);
     sizes.push_back(gradient_only ? 1 + d : contributionSize(s));
-  }
-  std::vector<double> send;
-  for (std::size_t k = 0; k < local.size(); ++k) {
-    const auto d = static_cast<std::size_t>(submaps_.systems()[k].submap().separator_dimension);
-    if (gradient_only) {
-      send.push_back(local[k].interior_gradient_squared);
-      send.insert(send.end(), local[k].gradient.data(), local[k].gradient.data() + d);
-    } else {
-      pack(local[k], d, send);
-    }
   }
   const std::vector<double> recv = gatherv(send, sizes);
   if (rank_ != 0) return -1;
@@ -226,7 +221,11 @@ int MpiEngine::gatherToRoot(const std::vector<detail::Contribution>& local, bool
 detail::StepOutcome MpiEngine::step(double lambda) {
   detail::StepOutcome out;
   auto t = Clock::now();
-  const int failed = gatherToRoot(submaps_.eliminate(lambda), false);
+  std::vector<double> send;
+  submaps_.eliminate(lambda, [&](std::size_t k, detail::Contribution& c) {
+    pack(c, static_cast<std::size_t>(submaps_.systems()[k].submap().separator_dimension), send);
+  });
+  const int failed = gatherToRoot(send, false);
   out.time_eliminate = secondsSince(t);
   t = Clock::now();
   // Rank 0 broadcasts: ok, the failed submap, gradient norm, largest diagonal, nonzeros, dx_S.

@@ -39,20 +39,18 @@ class LocalEngine final : public detail::Engine {
   detail::StepOutcome step(double lambda) override {
     detail::StepOutcome out;
     auto t = Clock::now();
-    const auto contributions = submaps_.eliminate(lambda);
     separator_.clear();
     double interior_squared = 0.0;
-    for (std::size_t k = 0; k < contributions.size(); ++k) {
-      const auto& c = contributions[k];
+    submaps_.eliminate(lambda, [&](std::size_t k, detail::Contribution& c) {
       out.max_diagonal = std::max(out.max_diagonal, c.max_diagonal);
       interior_squared += c.interior_gradient_squared;
       if (!c.ok) {
+        if (out.ok) out.message = c.message;
         out.ok = false;
-        out.message = c.message;
-        continue;
+        return;
       }
       separator_.add(static_cast<int>(k), c);
-    }
+    });
     out.gradient_norm = std::sqrt(interior_squared + separator_.gradientSquared());
     out.time_eliminate = secondsSince(t);
     if (!out.ok) return out;
