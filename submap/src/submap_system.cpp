@@ -249,9 +249,13 @@ std::unique_ptr<SubmapSystem::Factor> SubmapSystem::factorize(const Local& local
 
 namespace {
 
+/// Y's trailing rows are taken dense while they hold at most this many times the doubles of
+/// the dense separator block itself (it is in memory anyway); beyond, the sparse product.
+constexpr Eigen::Index kDenseRowsPerSeparatorBlock = 16;
+
 /// schur -= Y^T Y and reduced -= Y^T z for Y = L^-1 P B, z = L^-1 P g_I. Y is zero above its
 /// first non-zero row (L is lower triangular and P puts the rows B touches last), so the
-/// rows below are taken dense when they fit in max_dense doubles, the product by BLAS-3.
+/// rows below are taken dense (kDenseRowsPerSeparatorBlock), the product by BLAS-3.
 void subtractProjection(const SparseMatrix& y, const Eigen::VectorXd& z, Eigen::MatrixXd& schur,
                         Eigen::VectorXd& reduced) {
   const auto rows = y.rows(), cols = y.cols();
@@ -260,7 +264,7 @@ void subtractProjection(const SparseMatrix& y, const Eigen::VectorXd& z, Eigen::
     for (SparseMatrix::InnerIterator it(y, k); it; ++it) first = std::min(first, it.row());
   }
   const Eigen::Index height = rows - first;
-  if (height * cols <= 16 * cols * std::max<Eigen::Index>(cols, 64)) {
+  if (height <= kDenseRowsPerSeparatorBlock * std::max<Eigen::Index>(cols, 64)) {
     Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(height, cols);
     for (Eigen::Index k = 0; k < y.outerSize(); ++k) {
       for (SparseMatrix::InnerIterator it(y, k); it; ++it) dense(it.row() - first, k) = it.value();
