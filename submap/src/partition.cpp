@@ -133,6 +133,43 @@ std::vector<int> bisect(const VertexGraph& vg, int num_parts) {
   return part;
 }
 
+/// The separator vertices: a cover of the edges that join parts. An edge of two vertices in
+/// different parts is covered by the one with more such edges (the other part's when
+/// equal), unless one of them already is in the separator; an edge of more vertices puts
+/// every vertex outside its lowest part into the separator. Afterwards the vertices of an
+/// edge outside the separator lie in one part.
+std::vector<char> chooseSeparators(const Graph& graph, const VertexGraph& vg,
+                                   const std::vector<int>& part) {
+  std::vector<char> is_separator(vg.vertices.size(), 0);
+  std::vector<int> cut_degree(vg.vertices.size(), 0), vars;
+  auto at = [](const std::vector<int>& v, int k) { return v[static_cast<std::size_t>(k)]; };
+  for (const auto& e : graph.edges()) {
+    edgeVariables(vg, *e, vars);
+    if (vars.size() == 2 && at(part, vars[0]) != at(part, vars[1])) {
+      ++cut_degree[static_cast<std::size_t>(vars[0])];
+      ++cut_degree[static_cast<std::size_t>(vars[1])];
+    } else if (vars.size() > 2) {
+      int lowest = at(part, vars[0]);
+      for (int v : vars) lowest = std::min(lowest, at(part, v));
+      for (int v : vars) {
+        if (at(part, v) != lowest) is_separator[static_cast<std::size_t>(v)] = 1;
+      }
+    }
+  }
+  for (const auto& e : graph.edges()) {
+    edgeVariables(vg, *e, vars);
+    if (vars.size() != 2 || at(part, vars[0]) == at(part, vars[1])) continue;
+    const int u = vars[0], v = vars[1];
+    if (is_separator[static_cast<std::size_t>(u)] || is_separator[static_cast<std::size_t>(v)])
+      continue;
+    const bool take_u = at(cut_degree, u) != at(cut_degree, v)
+                            ? at(cut_degree, u) > at(cut_degree, v)
+                            : at(part, u) > at(part, v);
+    is_separator[static_cast<std::size_t>(take_u ? u : v)] = 1;
+  }
+  return is_separator;
+}
+
 /// Checks that every group of interior vertices joined by a submap's edges reaches a
 /// separator vertex, a fixed vertex or a unary edge; throws naming the first that does not.
 void checkAnchors(const Partition& p, const VertexGraph& vg, const std::vector<int>& sep_index) {
@@ -215,20 +252,19 @@ Partition partitionGraph(const Graph& graph, const PartitionOptions& options) {
                 std::to_string(n) + " optimised vertices: use fewer submaps");
   }
   const std::vector<int> part = bisect(vg, options.num_submaps);
-  // Separator rule: an edge belongs to the lowest part among its vertices; its vertices of
-  // other parts become separator vertices.
-  std::vector<char> is_separator(n, 0);
+  std::vector<char> is_separator = chooseSeparators(graph, vg, part);
+  // An edge belongs to the part of its vertices outside the separator (one part: the cover
+  // above), or to the lowest part among its vertices when all are separator vertices.
   std::vector<int> edge_part(graph.numEdges(), -1), vars;
   for (std::size_t e = 0; e < graph.numEdges(); ++e) {
     edgeVariables(vg, *graph.edges()[e], vars);
     if (vars.empty()) continue;
-    int lowest = options.num_submaps;
-    for (int v : vars) lowest = std::min(lowest, part[static_cast<std::size_t>(v)]);
+    int lowest = options.num_submaps, inner = -1;
     for (int v : vars) {
-      if (part[static_cast<std::size_t>(v)] != lowest)
-        is_separator[static_cast<std::size_t>(v)] = 1;
+      lowest = std::min(lowest, part[static_cast<std::size_t>(v)]);
+      if (!is_separator[static_cast<std::size_t>(v)]) inner = part[static_cast<std::size_t>(v)];
     }
-    edge_part[e] = lowest;
+    edge_part[e] = inner >= 0 ? inner : lowest;
   }
   Partition p;
   p.num_variables = n;
