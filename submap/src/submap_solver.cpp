@@ -109,6 +109,7 @@ class LocalEngine final : public detail::Engine {
 
 std::string Summary::report() const {
   std::ostringstream out;
+  out.precision(10);
   out << "termination: " << toString(status);
   if (!message.empty()) out << " (" << message << ")";
   out << "\npartition: " << partition << "\niterations: " << iterations
