@@ -425,8 +425,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
   const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
-  const Summary summary = o.submaps > 0 ? runSubmapSolver(graph, reg.solvers, o.submaps, o.options, o.quiet, csv)
-                                        : runOptimizer(graph, reg.solvers, o, csv);
+  const Summary summary =
+      o.submaps > 0 ? runSubmapSolver(graph, reg.solvers, o.submaps, o.options, o.quiet, csv)
+                    : runOptimizer(graph, reg.solvers, o, csv);
   finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
     const auto final_errors = eval::positionErrors(graph, in.ground_truth);
