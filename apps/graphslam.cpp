@@ -35,6 +35,7 @@
 #include "output_set.h"
 #include "plotting.h"
 #include "robust_options.h"
+#include "submap_run.h"
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -60,6 +61,7 @@ constexpr const char* kOptimizeUsage =
     "                          [--reject-outliers [--outliers FILE]] [--drop-unobservable]\n"
     "                          [--objective g2o|chordal] [--information "
     "refuse|nearest-pd|isotropic]\n"
+    "                          [--submaps K]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
@@ -70,7 +72,12 @@ constexpr const char* kOptimizeUsage =
     "--marginals writes the marginal covariance of every non-fixed vertex at the optimum, one\n"
     "line per vertex: its id, then the upper triangle of its covariance row by row (x y theta:\n"
     "c_xx c_xy c_xt c_yy c_yt c_tt), in the vertex's update coordinates. A vertex fixed only to\n"
-    "remove the gauge freedom gets zeros; the others are relative to it.";
+    "remove the gauge freedom gets zeros; the others are relative to it.\n"
+    "--submaps K splits the graph into K submaps joined by separator vertices: each step is\n"
+    "the direct path's (Gauss-Newton, damped when it fails), solved by eliminating every\n"
+    "submap's interior onto the separator (--threads submaps at once) and solving the\n"
+    "separator system; memory holds the submaps being eliminated and the separator system.\n"
+    "A graph without a small separator for K submaps is refused (docs/SUBMAPS.md).";
 
 /// A --stats line: the optimizer's figures, then the step strategy's (IterationStats).
 std::string csvLine(const IterationStats& s) {
@@ -133,6 +140,7 @@ struct OptimizeOptions {
   std::string input, output, algorithm, solver, stats_file, plot, npz_model, information;
   std::string objective = "g2o";
   int iterations = 100;
+  int submaps = 0;
   std::vector<std::string> plugins;
   std::string damping, first_step, init, marginals_file, marginals_tag;
   bool quiet = false;
@@ -194,6 +202,9 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "write marginal covariances (upper triangle per vertex) here, atomically")(
       "marginals-tag", po::value(&o.marginals_tag),
       "only vertices of this .g2o tag (e.g. VERTEX_XY for the landmarks)")(
+      "submaps", po::value(&o.submaps)->default_value(0),
+      "optimise by K submaps (Schur complement onto their separator, exact steps; 0: the "
+      "direct path)")(
       "drop-unobservable",
       "remove the vertices the edges do not determine (no edges, a landmark seen by one "
       "range or by parallel bearings) and their edges before optimising; without it such a "
@@ -215,6 +226,12 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   }
   Optimizer::Options& options = o.options;
   if (o.iterations < 1) throw UsageError("--iterations must be at least 1");
+  if (o.submaps < 0) throw UsageError("--submaps must be at least 1 (0: the direct path)");
+  if (o.submaps > 0 && (o.algorithm != "auto" || o.solver != "auto")) {
+    throw UsageError(
+        "--submaps takes its own steps (Gauss-Newton, damped when one fails) and solves "
+        "them by submaps: --algorithm and --solver do not apply");
+  }
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");
   }
@@ -408,7 +425,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
   const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
-  const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
+  const Summary summary =
+      o.submaps > 0 ? runSubmapSolver(graph, reg.solvers, o.submaps, o.options, o.quiet, csv)
+                    : runOptimizer(graph, reg.solvers, o, csv);
   finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
     const auto final_errors = eval::positionErrors(graph, in.ground_truth);
