@@ -17,6 +17,7 @@
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "window_output.h"
 
 namespace graphslam::apps {
 
@@ -27,6 +28,8 @@ constexpr const char* kIncrementalUsage =
     "                             [--relinearize-threshold X] [--relinearize-skip N]\n"
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
+    "                             [--window N | --window-seconds S] [--marginalised-out FILE]\n"
+    "                             [--checkpoint FILE --checkpoint-every N] [--resume FILE]\n"
     "                             [--refine X] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
@@ -37,13 +40,20 @@ constexpr const char* kIncrementalUsage =
     "Then --refine X (default 1e-6; 0: off) relinearises until no step exceeds X, which ends\n"
     "at the batch optimum (timed apart from the steps and reported after them).\n"
     "-o writes the replayed graph; --stats one CSV line per step; --plot the per-step time and\n"
-    "chi2 against the step (chi2 is then computed after every step, outside the timed part).";
+    "chi2 against the step (chi2 is then computed after every step, outside the timed part).\n"
+    "Fixed-lag smoothing (--window, --window-seconds): poses older than the window are\n"
+    "marginalised with the landmarks only they see, their information kept as a dense prior\n"
+    "on what they connect to (first-estimate caveats: docs/ARCHITECTURE.md); edges reaching a\n"
+    "marginalised vertex are refused and counted. Checkpoints (--checkpoint) are written\n"
+    "atomically; --resume continues a killed run from its last one and reaches the same\n"
+    "estimates bit for bit as the run that was not killed.";
 
 /// The options of graphslam incremental.
 struct IncrementalCliOptions {
   std::string input, output, stats, plot;
   std::vector<std::string> plugins;
   int check_every = 0;
+  std::string marginalised_out;
   bool quiet = false;  ///< -q: the summary only, without the input's description
   incremental::ReplayOptions replay;
 };
@@ -79,8 +89,23 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "refine", doubleValue(&o.replay.refine_threshold, 1e-6),
       "after the last step, relinearise every vertex whose step exceeds this and solve again "
       "until none does (the optimizer's refine(); timed apart; 0: off)")(
-      "plugin", po::value(&o.plugins)->composing(),
-      "load types from this shared library (repeatable)")(
+      "window", po::value(&opt.window.states)->default_value(0),
+      "fixed-lag smoothing: keep the newest N poses, marginalise older ones and the landmarks "
+      "only they see (0: the full history)")(
+      "window-seconds", doubleValue(&opt.window.seconds, 0.0),
+      "fixed-lag smoothing by time: keep the poses within S seconds of the newest (the poses "
+      "need time stamps, as VERTEX_VEHICLE's; 0: off)")(
+      "marginalised-out", po::value(&o.marginalised_out),
+      "append every marginalised vertex to this file as it leaves the window (.g2o vertex "
+      "lines: tag, id, estimate, line parameters)")(
+      "checkpoint", po::value(&o.replay.checkpoint_path),
+      "write the optimizer's state here (atomically; with --checkpoint-every)")(
+      "checkpoint-every", po::value(&o.replay.checkpoint_every)->default_value(0),
+      "write the checkpoint after every N-th step")(
+      "resume", po::value(&o.replay.resume_path),
+      "continue from this checkpoint (written by a run on the same input with the same "
+      "options)")("plugin", po::value(&o.plugins)->composing(),
+                  "load types from this shared library (repeatable)")(
       "quiet,q", "print only the summary (not the input's description and notes)");
   po::positional_options_description pos;
   pos.add("input", 1);
@@ -102,6 +127,21 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   if (o.check_every < 0) throw UsageError("--check-every must be at least 0 (0: never)");
   if (!(o.replay.refine_threshold >= 0 && std::isfinite(o.replay.refine_threshold))) {
     throw UsageError("--refine must be a finite number >= 0 (0: off)");
+  }
+  if (!(opt.window.seconds >= 0 && std::isfinite(opt.window.seconds))) {
+    throw UsageError("--window-seconds must be a finite number >= 0 (0: off)");
+  }
+  const bool window = opt.window.enabled();
+  if (!window && !o.marginalised_out.empty()) {
+    throw UsageError("--marginalised-out needs --window or --window-seconds");
+  }
+  if (window && o.check_every > 0) {
+    throw UsageError(
+        "--check-every compares with a batch solve of the whole graph: not with "
+        "--window or --window-seconds");
+  }
+  if (o.replay.checkpoint_path.empty() != (o.replay.checkpoint_every == 0)) {
+    throw UsageError("--checkpoint FILE and --checkpoint-every N (N >= 1) go together");
   }
   o.replay.record_chi2 = !o.stats.empty() || !o.plot.empty();
   return true;
@@ -146,6 +186,27 @@ void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions
     std::printf("after refine(%g): chi2 %.10g in %.4f s (%d passes, %d vertices relinearised)\n",
                 o.replay.refine_threshold, r.refined_chi2, r.refine_seconds, r.refine_stats.passes,
                 r.refine_stats.relinearized_vertices);
+  }
+}
+
+std::string formatGap(double gap);
+
+void printWindow(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
+  if (!o.replay.resume_path.empty()) {
+    std::printf("resumed from %s at step %zu\n", o.replay.resume_path.c_str(), r.first_step);
+  }
+  const incremental::WindowOptions& w = o.replay.optimizer.window;
+  if (!w.enabled()) return;
+  std::string bounds;
+  if (w.states > 0) bounds = std::to_string(w.states) + " poses";
+  if (w.seconds > 0) bounds += (bounds.empty() ? "" : ", ") + formatGap(w.seconds) + " s";
+  std::printf(
+      "window: %s; %zu vertices marginalised, %zu in the graph at the end (its chi2 "
+      "holds the marginalisation prior: not comparable with the batch optimum)\n",
+      bounds.c_str(), r.marginalized, r.window_vertices);
+  if (r.refused_edges > 0) {
+    std::printf("  %zu edges reaching marginalised vertices refused, the first: %s\n",
+                r.refused_edges, r.first_refusal.c_str());
   }
 }
 
@@ -267,6 +328,11 @@ int cmdIncremental(const std::vector<std::string>& args) {
       checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
     };
   }
+  MarginalisedOut marginalised(o.marginalised_out, reg.types);
+  marginalised.attach(o.replay.optimizer.window);
+  if (o.replay.resume_path.empty()) marginalised.start();
+  o.replay.checkpoint_note = [&] { return marginalised.note(); };
+  o.replay.on_resume = [&](const std::string& note) { marginalised.resume(note); };
   Graph replayed;
   const incremental::ReplayResult r =
       incremental::replayGraph(in.graph, reg.types, replayed, o.replay);
@@ -277,6 +343,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
     return kExitFailed;
   }
   printReplay(r, o);
+  printWindow(r, o);
   printChecks(checks, o.check_every);
   const Summary batch = runBatch(in, reg);
   if (!batch.succeeded() && batch.status != TerminationStatus::kNoProgress) {
@@ -298,7 +365,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
   return outputs.writeAll([&] {
     if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks);
     if (!o.output.empty()) {
-      io::saveG2o(outputs.staged(o.output), replayed, reg.types);
+      io::saveG2o(outputs.staged(o.output), withoutPriors(replayed, reg.types), reg.types);
       std::printf("wrote %s\n", o.output.c_str());
     }
     if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
