@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "builtins.h"
 #include "cli_common.h"
 #include "graphslam/incremental/replay.h"
@@ -29,8 +31,9 @@ constexpr const char* kIncrementalUsage =
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
     "                             [--window N | --window-seconds S] [--marginalised-out FILE]\n"
+    "                             [--reinitialise-landmarks]\n"
     "                             [--checkpoint FILE --checkpoint-every N] [--resume FILE]\n"
-    "                             [--refine X] [--plugin LIB]... [-q]\n"
+    "                             [--refine X] [--no-batch] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
     "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
@@ -54,7 +57,8 @@ struct IncrementalCliOptions {
   std::vector<std::string> plugins;
   int check_every = 0;
   std::string marginalised_out;
-  bool quiet = false;  ///< -q: the summary only, without the input's description
+  bool quiet = false;
+  bool batch = true;  ///< --no-batch: no batch optimum for scale  ///< -q: the summary only, without the input's description
   incremental::ReplayOptions replay;
 };
 
@@ -98,6 +102,10 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "marginalised-out", po::value(&o.marginalised_out),
       "append every marginalised vertex to this file as it leaves the window (.g2o vertex "
       "lines: tag, id, estimate, line parameters)")(
+      "reinitialise-landmarks",
+      po::bool_switch(&opt.window.reinitialize_landmarks),
+      "with a window: a marginalised landmark seen again is added anew, placed by that "
+      "observation (default: its edges are refused like those to marginalised poses)")(
       "checkpoint", po::value(&o.replay.checkpoint_path),
       "write the optimizer's state here (atomically; with --checkpoint-every)")(
       "checkpoint-every", po::value(&o.replay.checkpoint_every)->default_value(0),
@@ -106,6 +114,8 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "continue from this checkpoint (written by a run on the same input with the same "
       "options)")("plugin", po::value(&o.plugins)->composing(),
                   "load types from this shared library (repeatable)")(
+      "no-batch", "skip the batch optimum of the whole file (for long streams: it needs the "
+      "memory and time of a batch solve)")(
       "quiet,q", "print only the summary (not the input's description and notes)");
   po::positional_options_description pos;
   pos.add("input", 1);
@@ -116,6 +126,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   }
   if (o.input.empty()) throw UsageError("incremental needs an input file IN.g2o");
   o.quiet = vm.count("quiet") != 0;
+  o.batch = vm.count("no-batch") == 0;
   if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
   }
@@ -132,8 +143,9 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
     throw UsageError("--window-seconds must be a finite number >= 0 (0: off)");
   }
   const bool window = opt.window.enabled();
-  if (!window && !o.marginalised_out.empty()) {
-    throw UsageError("--marginalised-out needs --window or --window-seconds");
+  if (!window && (!o.marginalised_out.empty() || opt.window.reinitialize_landmarks)) {
+    throw UsageError("--marginalised-out and --reinitialise-landmarks need --window or "
+                     "--window-seconds");
   }
   if (window && o.check_every > 0) {
     throw UsageError(
@@ -145,6 +157,16 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   }
   o.replay.record_chi2 = !o.stats.empty() || !o.plot.empty();
   return true;
+}
+
+/// The process's resident set size in kB (/proc/self/statm; 0 where it cannot be read).
+long residentKilobytes() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  long pages = 0, resident = 0;
+  const int n = std::fscanf(f, "%ld %ld", &pages, &resident);
+  std::fclose(f);
+  return n == 2 ? resident * (sysconf(_SC_PAGESIZE) / 1024) : 0;
 }
 
 /// What --check-every found at one step.
@@ -259,11 +281,11 @@ std::string csvNumber(double value) {
 }
 
 void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
-                   const std::vector<StepCheck>& checks) {
+                   const std::vector<StepCheck>& checks, const std::vector<long>& rss) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,pose,new_edges,new_landmarks,seconds,passes,pass_limit_reached,"
            "relinearized_vertices,relinearized_edges,eliminated_columns,rebuilt,chi2,batch_chi2,"
-           "estimate_difference\n";
+           "estimate_difference,rss_kb\n";
     auto check = checks.begin();
     for (std::size_t k = 0; k < r.steps.size(); ++k) {
       const incremental::ReplayStep& s = r.steps[k];
@@ -280,7 +302,7 @@ void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
       } else {
         out << ',';
       }
-      out << '\n';
+      out << ',' << (k < rss.size() ? std::to_string(rss[k]) : std::string()) << '\n';
     }
   });
 }
@@ -290,7 +312,7 @@ void plotSteps(const std::string& png, const std::string& shown, const Increment
                const Summary& batch) {
   const std::string data = png + ".steps.csv";
   const TemporaryFile remove_data{data};
-  writeStepsCsv(data, r, checks);
+  writeStepsCsv(data, r, checks, {});
   char figures[160];
   std::snprintf(figures, sizeof figures,
                 ": incremental replay, %zu steps, %.4g s of updates; final chi2 %.10g (batch "
@@ -322,12 +344,12 @@ int cmdIncremental(const std::vector<std::string>& args) {
     for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
   }
   std::vector<StepCheck> checks;
-  if (o.check_every > 0) {
-    o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
-      if ((step + 1) % static_cast<std::size_t>(o.check_every) != 0) return;
-      checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
-    };
-  }
+  std::vector<long> rss;  // resident set size after each step (kB), for --stats
+  o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
+    if (!o.stats.empty()) rss.push_back(residentKilobytes());
+    if (o.check_every <= 0 || (step + 1) % static_cast<std::size_t>(o.check_every) != 0) return;
+    checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
+  };
   MarginalisedOut marginalised(o.marginalised_out, reg.types);
   marginalised.attach(o.replay.optimizer.window);
   if (o.replay.resume_path.empty()) marginalised.start();
@@ -345,6 +367,23 @@ int cmdIncremental(const std::vector<std::string>& args) {
   printReplay(r, o);
   printWindow(r, o);
   printChecks(checks, o.check_every);
+  const auto write = [&](const Summary& batch) {
+    return outputs.writeAll([&] {
+      if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks, rss);
+      if (!o.output.empty()) {
+        io::saveG2o(outputs.staged(o.output), withoutPriors(replayed, reg.types), reg.types);
+        std::printf("wrote %s\n", o.output.c_str());
+      }
+      if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
+      outputs.commit();
+      return kExitOk;
+    });
+  };
+  if (!o.batch) {
+    Summary none;
+    none.final_cost = std::nan("");
+    return write(none);
+  }
   const Summary batch = runBatch(in, reg);
   if (!batch.succeeded() && batch.status != TerminationStatus::kNoProgress) {
     std::cerr << "graphslam incremental: the batch optimizer failed: " << toString(batch.status)
@@ -362,16 +401,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
               o.replay.refine_threshold > 0
                   ? ("; after refine " + formatGap(gap(r.refined_chi2))).c_str()
                   : "");
-  return outputs.writeAll([&] {
-    if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks);
-    if (!o.output.empty()) {
-      io::saveG2o(outputs.staged(o.output), withoutPriors(replayed, reg.types), reg.types);
-      std::printf("wrote %s\n", o.output.c_str());
-    }
-    if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
-    outputs.commit();
-    return kExitOk;
-  });
+  return write(batch);
 }
 
 }  // namespace graphslam::apps

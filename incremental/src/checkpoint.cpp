@@ -122,6 +122,7 @@ void writeOptions(Writer& w, const Options& o) {
   w.put<std::uint64_t>(o.window.states);
   w.put(o.window.seconds);
   w.put(o.window.rank_tolerance);
+  w.put<std::uint8_t>(o.window.reinitialize_landmarks ? 1 : 0);
 }
 
 // Refuses a file written with other options than `o`, naming the first that differs.
@@ -141,6 +142,7 @@ void checkOptions(Reader& r, const Options& o) {
        static_cast<double>(o.window.states));
   same("window seconds", r.get<double>(), o.window.seconds);
   same("window rank_tolerance", r.get<double>(), o.window.rank_tolerance);
+  same("window reinitialize_landmarks", r.get<std::uint8_t>(), o.window.reinitialize_landmarks ? 1 : 0);
 }
 
 void writeEdge(Writer& w, const Edge& e, const TypeRegistry& types) {
@@ -294,6 +296,8 @@ void IncrementalOptimizer::saveCheckpoint(const std::string& path, const TypeReg
     w.put<std::int64_t>(first);
     w.put<std::int64_t>(last);
   }
+  w.put<std::uint64_t>(m.marginalized_landmarks.size());
+  for (VertexId id : m.marginalized_landmarks) w.put<std::int64_t>(id);
   w.put<std::uint64_t>(m.marginalized_count);
   writeGraph(w, graph_, types);
   w.putString(note);
@@ -375,6 +379,10 @@ std::string IncrementalOptimizer::loadCheckpoint(const std::string& path,
     const auto first = static_cast<VertexId>(r.get<std::int64_t>());
     fresh.marginalized[first] = static_cast<VertexId>(r.get<std::int64_t>());
   }
+  const auto nl = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < nl; ++k) {
+    fresh.marginalized_landmarks.insert(static_cast<VertexId>(r.get<std::int64_t>()));
+  }
   fresh.marginalized_count = r.get<std::uint64_t>();
   Graph loaded;
   try {
@@ -396,6 +404,7 @@ std::string IncrementalOptimizer::loadCheckpoint(const std::string& path,
   impl_->states = std::move(fresh.states);
   impl_->state_ids = std::move(fresh.state_ids);
   impl_->marginalized = std::move(fresh.marginalized);
+  impl_->marginalized_landmarks = std::move(fresh.marginalized_landmarks);
   impl_->marginalized_count = fresh.marginalized_count;
   impl_->needs_rebuild = true;
   impl_->built = true;

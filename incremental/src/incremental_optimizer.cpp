@@ -39,7 +39,10 @@ IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
 IncrementalOptimizer::~IncrementalOptimizer() = default;
 
 Vertex& IncrementalOptimizer::addVertex(std::unique_ptr<Vertex> vertex) {
-  if (vertex && impl_->isMarginalized(vertex->id())) {
+  if (vertex && options_.window.reinitialize_landmarks &&
+      impl_->marginalized_landmarks.erase(vertex->id()) != 0) {
+    // A landmark seen again: a new vertex under its old id.
+  } else if (vertex && impl_->isMarginalized(vertex->id())) {
     throw InputError("vertex " + std::to_string(vertex->id()) +
                      " refused: a vertex with this id was marginalised (it left the "
                      "fixed-lag window)");

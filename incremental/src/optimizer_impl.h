@@ -6,6 +6,7 @@
 
 #include <deque>
 #include <map>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -117,6 +118,9 @@ struct IncrementalOptimizer::Impl {
   std::deque<WindowState> states;
   std::unordered_set<VertexId> state_ids;
   std::map<VertexId, VertexId> marginalized;
+  // Marginalised landmarks (vertices that were not states), apart: with
+  // reinitialize_landmarks one may be added again (and leaves this set).
+  std::set<VertexId> marginalized_landmarks;
   std::size_t marginalized_count = 0;
 };
 

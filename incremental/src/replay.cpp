@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "graphslam/core/graph_copy.h"
 #include "graphslam/support/error.h"
@@ -24,6 +25,7 @@ namespace {
 struct Plan {
   std::string pose_tag;
   std::vector<const Vertex*> poses;  ///< in id order: step k adds poses[k]
+  std::unordered_set<VertexId> is_pose;
   /// Per step: the edges whose largest pose endpoint is that step's pose, in file order,
   /// then the edges without a pose endpoint that the step completes.
   std::vector<std::vector<const Edge*>> edges;
@@ -62,6 +64,7 @@ Plan makePlan(const Graph& source, const TypeRegistry& types) {
   for (const auto& [id, v] : source.vertices()) {
     if (*types.tagOf(*v) != plan.pose_tag) continue;
     pose_index.emplace(id, static_cast<int>(plan.poses.size()));
+    plan.is_pose.insert(id);
     plan.poses.push_back(v.get());
   }
   const std::size_t n = plan.poses.size();
@@ -237,8 +240,11 @@ class Replayer {
   /// refusal is counted.
   bool refused(const Edge& edge) {
     const auto ids = edge.vertexIds();
-    if (std::none_of(ids.begin(), ids.end(),
-                     [&](VertexId id) { return optimizer_.isMarginalized(id); })) {
+    const bool again = options_.optimizer.window.reinitialize_landmarks;
+    if (std::none_of(ids.begin(), ids.end(), [&](VertexId id) {
+          // A landmark seen again is added anew (addLandmarksOf) when the window allows.
+          return optimizer_.isMarginalized(id) && !(again && !plan_.is_pose.count(id));
+        })) {
       return false;
     }
     try {

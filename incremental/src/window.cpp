@@ -46,6 +46,7 @@ std::vector<WindowState> IncrementalOptimizer::windowStates() const {
 std::size_t IncrementalOptimizer::marginalizedCount() const { return impl_->marginalized_count; }
 
 bool IncrementalOptimizer::Impl::isMarginalized(VertexId id) const {
+  if (marginalized_landmarks.count(id)) return true;
   auto it = marginalized.upper_bound(id);
   if (it == marginalized.begin()) return false;
   --it;
@@ -151,7 +152,11 @@ std::vector<VertexId> IncrementalOptimizer::Impl::marginalizeStates(
                                  }),
                   new_edges.end());
   (void)marginalizeVertices(graph, all, options.window.rank_tolerance);
-  for (VertexId id : all) markMarginalized(id);
+  for (VertexId id : leaving_set) markMarginalized(id);
+  for (VertexId id : landmarks) {
+    marginalized_landmarks.insert(id);
+    ++marginalized_count;
+  }
   states.erase(std::remove_if(states.begin(), states.end(),
                               [&](const WindowState& s) { return leaving_set.count(s.id) != 0; }),
                states.end());

@@ -264,6 +264,29 @@ TEST(Incremental_Window, LandmarksLeaveWithTheirLastObserver) {
   EXPECT_LT(most, 20u + 40u);
 }
 
+// With reinitialize_landmarks a landmark seen again after it left is added anew: no
+// observation is refused, and the window still holds only landmarks its poses see.
+TEST(Incremental_Window, ReinitialisedLandmarksAreNotRefused) {
+  simulation::ManhattanOptions sim;
+  sim.num_poses = 300;
+  sim.num_landmarks = 15;
+  sim.seed = 9;
+  sim.loop_probability = 0.0;
+  const auto world = simulation::simulateManhattan(sim);
+  incremental::ReplayOptions options;
+  options.optimizer.window.states = 20;
+  Graph refused_graph;
+  const auto refused = incremental::replayGraph(world.graph, types(), refused_graph, options);
+  ASSERT_TRUE(refused.ok) << refused.error;
+  EXPECT_GT(refused.refused_edges, 0u);
+  options.optimizer.window.reinitialize_landmarks = true;
+  Graph target;
+  const auto r = incremental::replayGraph(world.graph, types(), target, options);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.refused_edges, 0u);
+  EXPECT_GT(r.marginalized, refused.marginalized);
+}
+
 std::string readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -50,6 +50,12 @@ struct WindowOptions {
   /// largest are left out of the prior (the data do not determine them; 1e-12 is rounding
   /// level for a condition number of 1e6 in the Jacobian).
   double rank_tolerance = 1e-12;
+  /// A marginalised landmark (a vertex that is not a state) seen again: false (the default)
+  /// refuses the edge like one to a marginalised state; true accepts the landmark again as
+  /// a new vertex under its id (addVertex, initialised by the caller), with no information
+  /// from before (that went into the prior on the states), as a fixed-lag smoother starts a
+  /// new track. Marginalised states are refused either way.
+  bool reinitialize_landmarks = false;
 
   [[nodiscard]] bool enabled() const { return states > 0 || seconds > 0.0 || policy; }
 };
@@ -196,8 +202,9 @@ class IncrementalOptimizer {
   /// does after an update; returns every vertex marginalised. Throws graphslam::Error for an
   /// id that is not a state of the window, or for a vertex type without Vertex::minus.
   std::vector<VertexId> marginalize(const std::vector<VertexId>& states);
-  /// Whether `id` was marginalised. Edges to it and vertices with its id are refused
-  /// (addEdge, addVertex throw graphslam::InputError naming it).
+  /// Whether `id` was marginalised (and, for a landmark, not added again). Edges to it and
+  /// vertices with its id are refused (addEdge, addVertex throw graphslam::InputError
+  /// naming it), except a landmark's id with WindowOptions::reinitialize_landmarks.
   [[nodiscard]] bool isMarginalized(VertexId id) const;
   /// The window's states, oldest first.
   [[nodiscard]] std::vector<WindowState> windowStates() const;

@@ -84,7 +84,9 @@ struct ReplayOptions {
   /// (IncrementalOptimizer::addState), stamped with its first line parameter when its type
   /// has one (VERTEX_VEHICLE's time), else unstamped. An edge of the file to a marginalised
   /// vertex (a loop closure or landmark observation reaching behind the window) is refused
-  /// by the optimizer and counted (ReplayResult::refused_edges), not added.
+  /// by the optimizer and counted (ReplayResult::refused_edges), not added; with
+  /// optimizer.window.reinitialize_landmarks a marginalised landmark seen again is added
+  /// anew, placed by that observation (the protocol's first observation).
   ///
   /// Checkpoints: after every checkpoint_every-th step (0: never), the optimizer's state
   /// and the replay's position go to checkpoint_path (IncrementalOptimizer::saveCheckpoint),
