@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // graphslam incremental: replays a graph pose by pose through the IncrementalOptimizer
 // (incremental/replay.h) and compares the end with the batch optimum.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,8 +10,6 @@
 #include <iostream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "builtins.h"
 #include "cli_common.h"
@@ -31,7 +31,7 @@ constexpr const char* kIncrementalUsage =
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
     "                             [--window N | --window-seconds S] [--marginalised-out FILE]\n"
-    "                             [--reinitialise-landmarks]\n"
+    "                             [--window-slack B] [--reinitialise-landmarks]\n"
     "                             [--checkpoint FILE --checkpoint-every N] [--resume FILE]\n"
     "                             [--refine X] [--no-batch] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
@@ -58,7 +58,8 @@ struct IncrementalCliOptions {
   int check_every = 0;
   std::string marginalised_out;
   bool quiet = false;
-  bool batch = true;  ///< --no-batch: no batch optimum for scale  ///< -q: the summary only, without the input's description
+  bool batch = true;  ///< --no-batch: no batch optimum for scale  ///< -q: the summary only,
+                      ///< without the input's description
   incremental::ReplayOptions replay;
 };
 
@@ -96,14 +97,17 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "window", po::value(&opt.window.states)->default_value(0),
       "fixed-lag smoothing: keep the newest N poses, marginalise older ones and the landmarks "
       "only they see (0: the full history)")(
+      "window-slack", po::value(&opt.window.slack)->default_value(0),
+      "with --window N: marginalise only when the window exceeds N + this, then down to N "
+      "(the window is eliminated afresh after each marginalisation: once every this-many "
+      "steps instead of at every one)")(
       "window-seconds", doubleValue(&opt.window.seconds, 0.0),
       "fixed-lag smoothing by time: keep the poses within S seconds of the newest (the poses "
       "need time stamps, as VERTEX_VEHICLE's; 0: off)")(
       "marginalised-out", po::value(&o.marginalised_out),
       "append every marginalised vertex to this file as it leaves the window (.g2o vertex "
       "lines: tag, id, estimate, line parameters)")(
-      "reinitialise-landmarks",
-      po::bool_switch(&opt.window.reinitialize_landmarks),
+      "reinitialise-landmarks", po::bool_switch(&opt.window.reinitialize_landmarks),
       "with a window: a marginalised landmark seen again is added anew, placed by that "
       "observation (default: its edges are refused like those to marginalised poses)")(
       "checkpoint", po::value(&o.replay.checkpoint_path),
@@ -114,7 +118,8 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "continue from this checkpoint (written by a run on the same input with the same "
       "options)")("plugin", po::value(&o.plugins)->composing(),
                   "load types from this shared library (repeatable)")(
-      "no-batch", "skip the batch optimum of the whole file (for long streams: it needs the "
+      "no-batch",
+      "skip the batch optimum of the whole file (for long streams: it needs the "
       "memory and time of a batch solve)")(
       "quiet,q", "print only the summary (not the input's description and notes)");
   po::positional_options_description pos;
@@ -144,8 +149,9 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   }
   const bool window = opt.window.enabled();
   if (!window && (!o.marginalised_out.empty() || opt.window.reinitialize_landmarks)) {
-    throw UsageError("--marginalised-out and --reinitialise-landmarks need --window or "
-                     "--window-seconds");
+    throw UsageError(
+        "--marginalised-out and --reinitialise-landmarks need --window or "
+        "--window-seconds");
   }
   if (window && o.check_every > 0) {
     throw UsageError(

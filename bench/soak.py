@@ -3,7 +3,7 @@
 """Soak benchmark (issue 56): a long seeded DriveBot drive replayed through the incremental
 optimizer with the full history and with a fixed-lag window, side by side.
 
-usage: bench/soak.py GRAPHSLAM [--laps N] [--window N] [--seed S] [--work DIR]
+usage: bench/soak.py GRAPHSLAM [--laps N] [--window N] [--slack B] [--seed S] [--work DIR]
                      [--outage-every S --outage-seconds S] [--plots DIR] [--max-seconds S]
 
 The drive: `graphslam drivebot` on a generated scenario (a 100 m x 60 m rectangle driven
@@ -164,6 +164,7 @@ def main():
     ap.add_argument("graphslam")
     ap.add_argument("--laps", type=int, default=73)
     ap.add_argument("--window", type=int, default=200)
+    ap.add_argument("--slack", type=int, default=0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--work", default="/tmp/graphslam-soak")
     ap.add_argument("--outage-every", type=float, default=300.0)
@@ -193,7 +194,8 @@ def main():
         files = [out]
         if mode == "window":
             marg = os.path.join(a.work, "marginalised.g2o")
-            cmd += ["--window", str(a.window), "--marginalised-out", marg, "--reinitialise-landmarks"]
+            cmd += ["--window", str(a.window), "--window-slack", str(a.slack), "--marginalised-out", marg,
+                    "--reinitialise-landmarks"]
             files = [marg, out]
         _, seconds, _ = run_sampled(cmd, a.max_seconds)
         dec, steps, rss = deciles(stats)
@@ -207,7 +209,7 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|")
     for mode, r in results.items():
         d = r["deciles"]
-        name = mode if mode == "full" else f"window {a.window}"
+        name = mode if mode == "full" else f"window {a.window} (slack {a.slack})"
         print(f"| {name} | {r['seconds']:.1f} | {d[0][0]:.3f} / {d[-1][0]:.3f} | {d[0][1]:.3f} / {d[-1][1]:.3f} "
               f"| {d[-1][1] / d[0][1]:.2f} | {max(x[2] for x in d):.1f} | {r['rss'][-1] / 1024:.1f} "
               f"| {100 * r['growth']:.1f} % | {r['ape']:.3f} |")

@@ -120,6 +120,7 @@ void writeOptions(Writer& w, const Options& o) {
   w.put(o.backsubstitution_fraction);
   w.put<std::int64_t>(o.chain_min_front_rows);
   w.put<std::uint64_t>(o.window.states);
+  w.put<std::uint64_t>(o.window.slack);
   w.put(o.window.seconds);
   w.put(o.window.rank_tolerance);
   w.put<std::uint8_t>(o.window.reinitialize_landmarks ? 1 : 0);
@@ -140,9 +141,12 @@ void checkOptions(Reader& r, const Options& o) {
   same("chain_min_front_rows", static_cast<double>(r.get<std::int64_t>()), o.chain_min_front_rows);
   same("window states", static_cast<double>(r.get<std::uint64_t>()),
        static_cast<double>(o.window.states));
+  same("window slack", static_cast<double>(r.get<std::uint64_t>()),
+       static_cast<double>(o.window.slack));
   same("window seconds", r.get<double>(), o.window.seconds);
   same("window rank_tolerance", r.get<double>(), o.window.rank_tolerance);
-  same("window reinitialize_landmarks", r.get<std::uint8_t>(), o.window.reinitialize_landmarks ? 1 : 0);
+  same("window reinitialize_landmarks", r.get<std::uint8_t>(),
+       o.window.reinitialize_landmarks ? 1 : 0);
 }
 
 void writeEdge(Writer& w, const Edge& e, const TypeRegistry& types) {

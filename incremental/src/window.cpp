@@ -83,7 +83,7 @@ void IncrementalOptimizer::Impl::applyWindow() {
   const WindowOptions& w = options.window;
   if (!w.enabled() || states.empty()) return;
   std::set<VertexId> leaving;
-  if (w.states > 0 && states.size() > w.states) {
+  if (w.states > 0 && states.size() > w.states + w.slack) {
     for (std::size_t k = 0; k < states.size() - w.states; ++k) leaving.insert(states[k].id);
   }
   if (w.seconds > 0.0) {

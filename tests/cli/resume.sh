@@ -1,7 +1,7 @@
 #!/bin/bash
 # SPDX-License-Identifier: MIT
 # Kill and resume: `graphslam incremental` with checkpoints is killed with SIGKILL at random
-# moments, resumed from its last checkpoint (run again from the start when none was written
+# moments (after a checkpoint of its own), resumed from its last checkpoint (run again from the start when none was written
 # yet) until it finishes, and its outputs (the window's graph, the marginalised vertices,
 # the final chi2) must equal those of an uninterrupted run bit for bit. Then corrupt,
 # truncated and foreign checkpoints are refused naming what is wrong (exit 2).
@@ -28,24 +28,23 @@ run=("$t" incremental in.g2o -q --refine 1e-6 -o out.g2o "${flags[@]}")
 mv out.g2o ref.g2o
 [ ! -e out.txt ] || mv out.txt ref.txt
 grep -E "^(final chi2|after refine)" ref.log | sed "s| in [0-9.]* s||" > ref.chi2
-start=$(date +%s%N)
-"${run[@]}" > /dev/null || fail "timed run"
-total_us=$((($(date +%s%N) - start) / 1000))
-rm -f out.g2o out.txt ck
-echo "a whole run takes ${total_us} us"
 
 kills=0 resumes=0
 for attempt in $(seq 1 3); do
   rm -f out.g2o out.txt ck
   args=()
-  # Three kills at random moments (each run resumed from the checkpoint the last left),
-  # then a run to the end.
+  # Three kills at random moments (each after the run has written a checkpoint of its own,
+  # so that every kill can be resumed from; then 0-250 ms later), each run resumed from the
+  # checkpoint the last one left, then a run to the end.
   for round in 1 2 3 4; do
+    before=$(stat -c %i ck 2> /dev/null)
     "${run[@]}" "${args[@]}" > run.log 2>&1 &
     pid=$!
     if [ "$round" -lt 4 ]; then
-      delay_us=$((total_us * (10 + RANDOM % 60) / 100))
-      sleep "$(printf '%d.%06d' $((delay_us / 1000000)) $((delay_us % 1000000)))"
+      while kill -0 "$pid" 2> /dev/null && [ "$(stat -c %i ck 2> /dev/null)" = "$before" ]; do
+        sleep 0.01
+      done
+      sleep "0.$(printf '%03d' $((RANDOM % 250)))"
       if kill -9 "$pid" 2> /dev/null; then
         wait "$pid" 2> /dev/null
         kills=$((kills + 1))

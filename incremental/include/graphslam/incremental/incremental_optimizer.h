@@ -34,8 +34,13 @@ struct WindowState {
 /// separator's current one differ, so the prior's Jacobian is that of the old point, and
 /// the estimate may be slightly overconfident in directions the data do not determine).
 struct WindowOptions {
-  /// Keep at most this many states (0: no bound by count).
+  /// Keep at most this many states (0: no bound by count)...
   std::size_t states = 0;
+  /// ...marginalising only when the window holds more than states + slack, then down to
+  /// `states`: each marginalisation makes the next update() eliminate the whole window
+  /// afresh, so a slack of B does that once every B updates instead of at every one (the
+  /// updates between are incremental), for a window of up to states + B.
+  std::size_t slack = 0;
   /// Keep only the states whose stamp is within this many seconds of the newest state's
   /// (0: no bound by time; every state then needs a finite stamp).
   double seconds = 0.0;
