@@ -19,6 +19,10 @@ the vehicle positions against the ground truth (RMS of the position error, no al
 GPS fixes the frame). Window mode's trajectory is the vertices as they left the window
 (frozen then) and the window's at the end. Prints a markdown table and, with --plots,
 writes soak_latency.png and soak_memory.png there (matplotlib).
+
+--pose-stream N instead replays a synthetic pose graph of N poses (`graphslam simulate
+--poses N`, Manhattan world, no landmarks) through the window only (its loop closures reach
+behind the window and are refused) and prints the same latency and memory figures.
 """
 import argparse
 import csv
@@ -159,6 +163,26 @@ def plot(results, folder):
     fig.savefig(os.path.join(folder, "soak_memory.png"), dpi=110)
 
 
+def pose_stream(a):
+    os.makedirs(a.work, exist_ok=True)
+    stream = os.path.join(a.work, "poses.g2o")
+    subprocess.run([a.graphslam, "simulate", "--poses", str(a.pose_stream), "--seed", str(a.seed), "-o", stream],
+                   check=True, stdout=subprocess.DEVNULL)
+    stats = os.path.join(a.work, "poses.csv")
+    cmd = [a.graphslam, "incremental", stream, "-q", "--refine", "0", "--no-batch", "--stats", stats,
+           "--window", str(a.window), "--window-slack", str(a.slack)]
+    _, seconds, out = run_sampled(cmd, a.max_seconds)
+    dec, steps, rss = deciles(stats)
+    print(f"pose stream: {steps} poses, window {a.window} (slack {a.slack}), {seconds:.1f} s\n")
+    print("| tenth | p50 (ms) | p99 (ms) | max (ms) | RSS at its end (MB) |")
+    print("|---|---|---|---|---|")
+    for d, (p50, p99, mx) in enumerate(dec):
+        end = min(len(rss) - 1, (d + 1) * len(rss) // 10 - 1)
+        print(f"| {d + 1} | {p50:.3f} | {p99:.3f} | {mx:.1f} | {rss[end] / 1024:.1f} |")
+    print(f"\np99 last / first tenth: {dec[-1][1] / dec[0][1]:.2f}; RSS growth over the last half: "
+          f"{100 * rss_growth(rss):.2f} %")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("graphslam")
@@ -172,7 +196,12 @@ def main():
     ap.add_argument("--plots", default="")
     ap.add_argument("--max-seconds", type=float, default=900.0)
     ap.add_argument("--modes", default="full,window")
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless every figure is finite and both runs covered every step")
+    ap.add_argument("--pose-stream", type=int, default=0)
     a = ap.parse_args()
+    if a.pose_stream > 0:
+        return pose_stream(a)
     os.makedirs(a.work, exist_ok=True)
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
     os.environ.update(env)
@@ -220,6 +249,12 @@ def main():
         print(f"\nAPE window / full: {results['window']['ape'] / results['full']['ape']:.3f}")
     if a.plots:
         plot(results, a.plots)
+    if a.check:
+        for mode, r in results.items():
+            figures = [r["ape"], r["growth"]] + [x for d in r["deciles"] for x in d]
+            if not all(math.isfinite(x) for x in figures) or r["matched"] < r["steps"] - 1:
+                sys.exit(f"soak: {mode}: a figure is not finite or steps lack an estimate "
+                         f"({r['matched']} of {r['steps']} matched)")
 
 
 if __name__ == "__main__":
