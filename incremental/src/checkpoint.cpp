@@ -88,7 +88,8 @@ class Reader {
     const auto n = get<std::uint64_t>();
     if (expected != SIZE_MAX && n != expected)
       fail("a record holds " + std::to_string(n) + " values, its type " + std::to_string(expected));
-    need(n * sizeof(double));
+    if (n > (in_.size() - at_) / sizeof(double))
+      fail("its payload ends inside a record (inconsistent file)");
     std::vector<double> v(n);
     if (n) std::memcpy(v.data(), in_.data() + at_, n * sizeof(double));
     at_ += n * sizeof(double);
