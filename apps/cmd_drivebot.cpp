@@ -451,7 +451,30 @@ void printProgress(const StepRecord& s) {
 
 }  // namespace
 
+namespace {
+
+/// The long-run options of `graphslam incremental` that drivebot does not have yet: refused
+/// with a message saying how to get them, rather than as unknown options.
+void refuseLongRunOptions(const std::vector<std::string>& args) {
+  for (const std::string& a : args) {
+    for (const char* name :
+         {"--window", "--window-seconds", "--window-slack", "--marginalised-out", "--checkpoint",
+          "--checkpoint-every", "--resume", "--reinitialise-landmarks"}) {
+      if (a == name || a.rfind(std::string(name) + "=", 0) == 0) {
+        throw UsageError(std::string(name) +
+                         ": drivebot has no fixed-lag window or checkpoints yet; write the "
+                         "drive's stream (--optimize-every 0 --final-iterations 0, final.g2o) "
+                         "and replay it with graphslam incremental " +
+                         name + " (docs/DRIVEBOT.md, \"Long drives\")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
 int cmdDrivebot(const std::vector<std::string>& args) {
+  refuseLongRunOptions(args);
   po::options_description desc("options");
   declareOptions(desc);
   const auto vm = parse(args, desc);

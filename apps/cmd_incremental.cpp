@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // graphslam incremental: replays a graph pose by pose through the IncrementalOptimizer
 // (incremental/replay.h) and compares the end with the batch optimum.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +19,7 @@
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "window_output.h"
 
 namespace graphslam::apps {
 
@@ -27,7 +30,10 @@ constexpr const char* kIncrementalUsage =
     "                             [--relinearize-threshold X] [--relinearize-skip N]\n"
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
-    "                             [--refine X] [--plugin LIB]... [-q]\n"
+    "                             [--window N | --window-seconds S] [--marginalised-out FILE]\n"
+    "                             [--window-slack B] [--reinitialise-landmarks]\n"
+    "                             [--checkpoint FILE --checkpoint-every N] [--resume FILE]\n"
+    "                             [--refine X] [--no-batch] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
     "order, pose k composed from the current estimate of pose k-1 and their odometry edge,\n"
     "with every edge whose largest pose endpoint is k (landmarks with their first observation,\n"
@@ -37,14 +43,23 @@ constexpr const char* kIncrementalUsage =
     "Then --refine X (default 1e-6; 0: off) relinearises until no step exceeds X, which ends\n"
     "at the batch optimum (timed apart from the steps and reported after them).\n"
     "-o writes the replayed graph; --stats one CSV line per step; --plot the per-step time and\n"
-    "chi2 against the step (chi2 is then computed after every step, outside the timed part).";
+    "chi2 against the step (chi2 is then computed after every step, outside the timed part).\n"
+    "Fixed-lag smoothing (--window, --window-seconds): poses older than the window are\n"
+    "marginalised with the landmarks only they see, their information kept as a dense prior\n"
+    "on what they connect to (first-estimate caveats: docs/ARCHITECTURE.md); edges reaching a\n"
+    "marginalised vertex are refused and counted. Checkpoints (--checkpoint) are written\n"
+    "atomically; --resume continues a killed run from its last one and reaches the same\n"
+    "estimates bit for bit as the run that was not killed.";
 
 /// The options of graphslam incremental.
 struct IncrementalCliOptions {
   std::string input, output, stats, plot;
   std::vector<std::string> plugins;
   int check_every = 0;
-  bool quiet = false;  ///< -q: the summary only, without the input's description
+  std::string marginalised_out;
+  bool quiet = false;
+  bool batch = true;  ///< --no-batch: no batch optimum for scale  ///< -q: the summary only,
+                      ///< without the input's description
   incremental::ReplayOptions replay;
 };
 
@@ -79,8 +94,33 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "refine", doubleValue(&o.replay.refine_threshold, 1e-6),
       "after the last step, relinearise every vertex whose step exceeds this and solve again "
       "until none does (the optimizer's refine(); timed apart; 0: off)")(
-      "plugin", po::value(&o.plugins)->composing(),
-      "load types from this shared library (repeatable)")(
+      "window", po::value(&opt.window.states)->default_value(0),
+      "fixed-lag smoothing: keep the newest N poses, marginalise older ones and the landmarks "
+      "only they see (0: the full history)")(
+      "window-slack", po::value(&opt.window.slack)->default_value(0),
+      "with --window N: marginalise only when the window exceeds N + this, then down to N "
+      "(the window is eliminated afresh after each marginalisation: once every this-many "
+      "steps instead of at every one)")(
+      "window-seconds", doubleValue(&opt.window.seconds, 0.0),
+      "fixed-lag smoothing by time: keep the poses within S seconds of the newest (the poses "
+      "need time stamps, as VERTEX_VEHICLE's; 0: off)")(
+      "marginalised-out", po::value(&o.marginalised_out),
+      "append every marginalised vertex to this file as it leaves the window (.g2o vertex "
+      "lines: tag, id, estimate, line parameters)")(
+      "reinitialise-landmarks", po::bool_switch(&opt.window.reinitialize_landmarks),
+      "with a window: a marginalised landmark seen again is added anew, placed by that "
+      "observation (default: its edges are refused like those to marginalised poses)")(
+      "checkpoint", po::value(&o.replay.checkpoint_path),
+      "write the optimizer's state here (atomically; with --checkpoint-every)")(
+      "checkpoint-every", po::value(&o.replay.checkpoint_every)->default_value(0),
+      "write the checkpoint after every N-th step")(
+      "resume", po::value(&o.replay.resume_path),
+      "continue from this checkpoint (written by a run on the same input with the same "
+      "options)")("plugin", po::value(&o.plugins)->composing(),
+                  "load types from this shared library (repeatable)")(
+      "no-batch",
+      "skip the batch optimum of the whole file (for long streams: it needs the "
+      "memory and time of a batch solve)")(
       "quiet,q", "print only the summary (not the input's description and notes)");
   po::positional_options_description pos;
   pos.add("input", 1);
@@ -91,6 +131,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   }
   if (o.input.empty()) throw UsageError("incremental needs an input file IN.g2o");
   o.quiet = vm.count("quiet") != 0;
+  o.batch = vm.count("no-batch") == 0;
   if (!(opt.relinearize_threshold >= 0 && std::isfinite(opt.relinearize_threshold))) {
     throw UsageError("--relinearize-threshold must be a finite number >= 0");
   }
@@ -103,8 +144,35 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   if (!(o.replay.refine_threshold >= 0 && std::isfinite(o.replay.refine_threshold))) {
     throw UsageError("--refine must be a finite number >= 0 (0: off)");
   }
+  if (!(opt.window.seconds >= 0 && std::isfinite(opt.window.seconds))) {
+    throw UsageError("--window-seconds must be a finite number >= 0 (0: off)");
+  }
+  const bool window = opt.window.enabled();
+  if (!window && (!o.marginalised_out.empty() || opt.window.reinitialize_landmarks)) {
+    throw UsageError(
+        "--marginalised-out and --reinitialise-landmarks need --window or "
+        "--window-seconds");
+  }
+  if (window && o.check_every > 0) {
+    throw UsageError(
+        "--check-every compares with a batch solve of the whole graph: not with "
+        "--window or --window-seconds");
+  }
+  if (o.replay.checkpoint_path.empty() != (o.replay.checkpoint_every == 0)) {
+    throw UsageError("--checkpoint FILE and --checkpoint-every N (N >= 1) go together");
+  }
   o.replay.record_chi2 = !o.stats.empty() || !o.plot.empty();
   return true;
+}
+
+/// The process's resident set size in kB (/proc/self/statm; 0 where it cannot be read).
+long residentKilobytes() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  long pages = 0, resident = 0;
+  const int n = std::fscanf(f, "%ld %ld", &pages, &resident);
+  std::fclose(f);
+  return n == 2 ? resident * (sysconf(_SC_PAGESIZE) / 1024) : 0;
 }
 
 /// What --check-every found at one step.
@@ -146,6 +214,27 @@ void printReplay(const incremental::ReplayResult& r, const IncrementalCliOptions
     std::printf("after refine(%g): chi2 %.10g in %.4f s (%d passes, %d vertices relinearised)\n",
                 o.replay.refine_threshold, r.refined_chi2, r.refine_seconds, r.refine_stats.passes,
                 r.refine_stats.relinearized_vertices);
+  }
+}
+
+std::string formatGap(double gap);
+
+void printWindow(const incremental::ReplayResult& r, const IncrementalCliOptions& o) {
+  if (!o.replay.resume_path.empty()) {
+    std::printf("resumed from %s at step %zu\n", o.replay.resume_path.c_str(), r.first_step);
+  }
+  const incremental::WindowOptions& w = o.replay.optimizer.window;
+  if (!w.enabled()) return;
+  std::string bounds;
+  if (w.states > 0) bounds = std::to_string(w.states) + " poses";
+  if (w.seconds > 0) bounds += (bounds.empty() ? "" : ", ") + formatGap(w.seconds) + " s";
+  std::printf(
+      "window: %s; %zu vertices marginalised, %zu in the graph at the end (its chi2 "
+      "holds the marginalisation prior: not comparable with the batch optimum)\n",
+      bounds.c_str(), r.marginalized, r.window_vertices);
+  if (r.refused_edges > 0) {
+    std::printf("  %zu edges reaching marginalised vertices refused, the first: %s\n",
+                r.refused_edges, r.first_refusal.c_str());
   }
 }
 
@@ -198,11 +287,11 @@ std::string csvNumber(double value) {
 }
 
 void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
-                   const std::vector<StepCheck>& checks) {
+                   const std::vector<StepCheck>& checks, const std::vector<long>& rss) {
   support::writeFileAtomically(path, [&](std::ostream& out) {
     out << "step,pose,new_edges,new_landmarks,seconds,passes,pass_limit_reached,"
            "relinearized_vertices,relinearized_edges,eliminated_columns,rebuilt,chi2,batch_chi2,"
-           "estimate_difference\n";
+           "estimate_difference,rss_kb\n";
     auto check = checks.begin();
     for (std::size_t k = 0; k < r.steps.size(); ++k) {
       const incremental::ReplayStep& s = r.steps[k];
@@ -219,7 +308,7 @@ void writeStepsCsv(const std::string& path, const incremental::ReplayResult& r,
       } else {
         out << ',';
       }
-      out << '\n';
+      out << ',' << (k < rss.size() ? std::to_string(rss[k]) : std::string()) << '\n';
     }
   });
 }
@@ -229,7 +318,7 @@ void plotSteps(const std::string& png, const std::string& shown, const Increment
                const Summary& batch) {
   const std::string data = png + ".steps.csv";
   const TemporaryFile remove_data{data};
-  writeStepsCsv(data, r, checks);
+  writeStepsCsv(data, r, checks, {});
   char figures[160];
   std::snprintf(figures, sizeof figures,
                 ": incremental replay, %zu steps, %.4g s of updates; final chi2 %.10g (batch "
@@ -261,12 +350,17 @@ int cmdIncremental(const std::vector<std::string>& args) {
     for (const auto& note : in.notes) std::printf("  %s\n", note.c_str());
   }
   std::vector<StepCheck> checks;
-  if (o.check_every > 0) {
-    o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
-      if ((step + 1) % static_cast<std::size_t>(o.check_every) != 0) return;
-      checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
-    };
-  }
+  std::vector<long> rss;  // resident set size after each step (kB), for --stats
+  o.replay.after_step = [&](std::size_t step, const incremental::ReplayStep&, const Graph& g) {
+    if (!o.stats.empty()) rss.push_back(residentKilobytes());
+    if (o.check_every <= 0 || (step + 1) % static_cast<std::size_t>(o.check_every) != 0) return;
+    checks.push_back({step, incremental::compareWithBatch(g, reg.types, reg.solvers)});
+  };
+  MarginalisedOut marginalised(o.marginalised_out, reg.types);
+  marginalised.attach(o.replay.optimizer.window);
+  if (o.replay.resume_path.empty()) marginalised.start();
+  o.replay.checkpoint_note = [&] { return marginalised.note(); };
+  o.replay.on_resume = [&](const std::string& note) { marginalised.resume(note); };
   Graph replayed;
   const incremental::ReplayResult r =
       incremental::replayGraph(in.graph, reg.types, replayed, o.replay);
@@ -277,7 +371,25 @@ int cmdIncremental(const std::vector<std::string>& args) {
     return kExitFailed;
   }
   printReplay(r, o);
+  printWindow(r, o);
   printChecks(checks, o.check_every);
+  const auto write = [&](const Summary& batch) {
+    return outputs.writeAll([&] {
+      if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks, rss);
+      if (!o.output.empty()) {
+        io::saveG2o(outputs.staged(o.output), withoutPriors(replayed, reg.types), reg.types);
+        std::printf("wrote %s\n", o.output.c_str());
+      }
+      if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
+      outputs.commit();
+      return kExitOk;
+    });
+  };
+  if (!o.batch) {
+    Summary none;
+    none.final_cost = std::nan("");
+    return write(none);
+  }
   const Summary batch = runBatch(in, reg);
   if (!batch.succeeded() && batch.status != TerminationStatus::kNoProgress) {
     std::cerr << "graphslam incremental: the batch optimizer failed: " << toString(batch.status)
@@ -295,16 +407,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
               o.replay.refine_threshold > 0
                   ? ("; after refine " + formatGap(gap(r.refined_chi2))).c_str()
                   : "");
-  return outputs.writeAll([&] {
-    if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks);
-    if (!o.output.empty()) {
-      io::saveG2o(outputs.staged(o.output), replayed, reg.types);
-      std::printf("wrote %s\n", o.output.c_str());
-    }
-    if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
-    outputs.commit();
-    return kExitOk;
-  });
+  return write(batch);
 }
 
 }  // namespace graphslam::apps

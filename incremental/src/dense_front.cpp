@@ -40,8 +40,10 @@ bool eliminateLeadingBlocked(Eigen::Map<Eigen::MatrixXd>& f, Eigen::Map<Eigen::V
   const double minus_one = -1.0;
   double* below = a + k;
   support::blas::dtrsm("R", "L", "T", "N", &h, &k, &one, a, &n, below, &n);
-  support::blas::dsyrk("L", "N", &h, &k, &minus_one, below, &n, &one, below + static_cast<Index>(k) * n, &n);
-  support::blas::dgemv("N", &h, &k, &minus_one, below, &n, rhs.data(), &inc, &one, rhs.data() + k, &inc);
+  support::blas::dsyrk("L", "N", &h, &k, &minus_one, below, &n, &one,
+                       below + static_cast<Index>(k) * n, &n);
+  support::blas::dgemv("N", &h, &k, &minus_one, below, &n, rhs.data(), &inc, &one, rhs.data() + k,
+                       &inc);
   return true;
 }
 #else

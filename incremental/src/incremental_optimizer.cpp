@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <unordered_map>
 
-#include "block_factor.h"
 #include "graphslam/optimizer/linear_system.h"
 #include "graphslam/support/error.h"
+#include "optimizer_impl.h"
 
 namespace graphslam::incremental {
 
@@ -19,92 +19,7 @@ namespace {
 constexpr std::size_t kResumPerFactor = 4;
 constexpr std::size_t kResumSlack = 16;
 
-// Where a factor's block H(other, v) of a variable v lies in the factor's `hessian`.
-struct Link {
-  int factor = -1;
-  int other = -1;  // the other variable
-  int row = 0;     // first row of `other` in the factor's hessian
-  int col = 0;     // first column of v there
-  int rows = 0;    // dimension of `other`
-};
-
-// A free vertex of the system (node of the factor with the same index): its linearisation
-// point (flat estimate data), the factors (edges) that touch it, and what assembling its
-// column of H needs: the sums over its factors of the diagonal block H(v, v) and of -g_v,
-// kept up to date as factors are linearised, and the places of the off-diagonal blocks. So
-// assembling a column reads the factors' data only for the rows that come after it (a
-// landmark seen from many poses is eliminated after most of them).
-struct Variable {
-  Vertex* vertex = nullptr;
-  std::vector<double> theta0;
-  std::vector<int> factors;
-  std::vector<double> diagonal;  // dim x dim, column-major
-  std::vector<double> rhs;       // dim
-  std::vector<Link> links;       // per factor, one per other free vertex of it
-  // Changes of the sums since they were last summed afresh (kResumPerFactor).
-  std::size_t sum_changes = 0;
-};
-
-// An edge with its quadratic form at the linearisation points of its vertices, kept as a
-// dense matrix over its free vertices (both triangles) and the gradient J^T Omega e.
-struct Factor {
-  Edge* edge = nullptr;
-  std::vector<int> vars;     // per slot, -1 for a fixed vertex
-  std::vector<int> offsets;  // per slot, first row in `hessian`, -1 for a fixed vertex
-  int dim = 0;
-  std::vector<double> hessian;
-  std::vector<double> gradient;
-};
-
 }  // namespace
-
-struct IncrementalOptimizer::Impl {
-  explicit Impl(Graph& g, const Options& o) : graph(g), options(o) {}
-
-  bool update();
-  bool refine(double threshold);
-  bool solve(std::vector<int> touched, const std::vector<int>& last, double threshold,
-             bool relinearize, int max_passes);
-  std::vector<int> relinearizeVertices(const std::vector<int>& far);
-  void rebuild();
-  void integrateNewEdges(std::vector<int>& touched);
-  int variableFor(Vertex& v);
-  void linearize(const std::vector<int>& factor_ids, std::vector<int>& changed_nodes);
-  void addDiagonal(const Factor& f, double sign);
-  void resum(int var);
-  void assemble(int p, ColumnBuilder& builder) const;
-  void applySteps(const std::vector<int>& nodes, double threshold, std::vector<int>& far);
-  void defer(const std::vector<int>& far);
-  void takeDeferred(double threshold, std::vector<int>& far);
-  void relinearizeDeferred(std::vector<int>& touched);
-  void remember(int var);
-  void restoreAfterFailure(int node);
-
-  Graph& graph;
-  const Options& options;
-  std::unordered_map<VertexId, int> var_of;
-  std::vector<Variable> vars;
-  std::vector<Factor> factors;
-  std::vector<Edge*> new_edges;
-  bool needs_rebuild = true;
-  bool anchored = false;
-  std::uint64_t version = 0;
-  BlockFactor factor;
-  UpdateStats stats;
-  UpdateFailure failure;
-  bool ready = false;  // a successful update() made the factor
-  bool built = false;  // an update() ran
-  long update_count = 0;
-  // Estimates before this update: the variables and their estimate data, back to back.
-  std::vector<int> undo;
-  std::vector<double> undo_data;
-  std::vector<char> remembered;  // per variable: in the undo log
-  std::vector<char> moved_flag;  // per variable: at its linearisation point for linearize()
-  // Variables whose step exceeded the threshold at an update that did not check
-  // (relinearize_skip): the next check relinearises those still beyond it.
-  std::vector<int> deferred;
-  std::vector<char> deferred_flag;  // per variable: in `deferred`
-};
 
 IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
     : graph_(graph), options_(options), impl_(std::make_unique<Impl>(graph_, options_)) {
@@ -124,6 +39,14 @@ IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
 IncrementalOptimizer::~IncrementalOptimizer() = default;
 
 Vertex& IncrementalOptimizer::addVertex(std::unique_ptr<Vertex> vertex) {
+  if (vertex && options_.window.reinitialize_landmarks &&
+      impl_->marginalized_landmarks.erase(vertex->id()) != 0) {
+    // A landmark seen again: a new vertex under its old id.
+  } else if (vertex && impl_->isMarginalized(vertex->id())) {
+    throw InputError("vertex " + std::to_string(vertex->id()) +
+                     " refused: a vertex with this id was marginalised (it left the "
+                     "fixed-lag window)");
+  }
   const bool in_sync = graph_.structureVersion() == impl_->version;
   Vertex& v = graph_.addVertex(std::move(vertex));
   if (in_sync) impl_->version = graph_.structureVersion();
@@ -131,6 +54,13 @@ Vertex& IncrementalOptimizer::addVertex(std::unique_ptr<Vertex> vertex) {
 }
 
 Edge& IncrementalOptimizer::addEdge(std::unique_ptr<Edge> edge) {
+  if (edge) {
+    for (VertexId id : edge->vertexIds()) {
+      if (!impl_->isMarginalized(id)) continue;
+      throw InputError("edge to vertex " + std::to_string(id) +
+                       " refused: that vertex was marginalised (it left the fixed-lag window)");
+    }
+  }
   const bool in_sync = graph_.structureVersion() == impl_->version;
   Edge& e = graph_.addEdge(std::move(edge));
   if (in_sync) impl_->version = graph_.structureVersion();
@@ -169,7 +99,9 @@ std::size_t IncrementalOptimizer::factorColumns() const { return impl_->factor.s
 std::size_t IncrementalOptimizer::factorBlocks() const { return impl_->factor.offDiagonalBlocks(); }
 
 Eigen::MatrixXd IncrementalOptimizer::marginalCovariance(VertexId id) const {
-  if (!impl_->ready) throw Error("marginalCovariance: no successful update() yet");
+  if (!impl_->ready || impl_->needs_rebuild) {
+    throw Error("marginalCovariance: no successful update() since the graph changed");
+  }
   const auto it = impl_->var_of.find(id);
   if (it == impl_->var_of.end()) {
     throw Error("marginalCovariance: vertex " + std::to_string(id) +
@@ -209,6 +141,10 @@ bool IncrementalOptimizer::Impl::update() {
 }
 
 bool IncrementalOptimizer::Impl::refine(double threshold) {
+  // After a marginalisation the factor is rebuilt first (an update without new edges).
+  if (ready && needs_rebuild && new_edges.empty() && graph.structureVersion() == version) {
+    if (!update()) return false;
+  }
   stats = UpdateStats{};
   failure = UpdateFailure{};
   if (!ready || !new_edges.empty() || graph.structureVersion() != version) {
@@ -264,6 +200,7 @@ bool IncrementalOptimizer::Impl::solve(std::vector<int> touched, const std::vect
   undo_data.clear();
   version = graph.structureVersion();
   ready = true;
+  applyWindow();
   return true;
 }
 

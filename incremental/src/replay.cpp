@@ -7,8 +7,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
+#include <limits>
 #include <map>
+#include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "graphslam/core/graph_copy.h"
 #include "graphslam/support/error.h"
@@ -21,6 +25,7 @@ namespace {
 struct Plan {
   std::string pose_tag;
   std::vector<const Vertex*> poses;  ///< in id order: step k adds poses[k]
+  std::unordered_set<VertexId> is_pose;
   /// Per step: the edges whose largest pose endpoint is that step's pose, in file order,
   /// then the edges without a pose endpoint that the step completes.
   std::vector<std::vector<const Edge*>> edges;
@@ -59,6 +64,7 @@ Plan makePlan(const Graph& source, const TypeRegistry& types) {
   for (const auto& [id, v] : source.vertices()) {
     if (*types.tagOf(*v) != plan.pose_tag) continue;
     pose_index.emplace(id, static_cast<int>(plan.poses.size()));
+    plan.is_pose.insert(id);
     plan.poses.push_back(v.get());
   }
   const std::size_t n = plan.poses.size();
@@ -159,19 +165,25 @@ class Replayer {
         plan_(makePlan(source, types)),
         optimizer_(target, options.optimizer) {
     for (const auto& [id, p] : source.parameters()) {
-      target.addParameter(copyParameter(*p, types));
+      if (options.resume_path.empty()) target.addParameter(copyParameter(*p, types));
       scratch_.addParameter(copyParameter(*p, types));
     }
+    if (!options.resume_path.empty()) resume();
   }
 
   ReplayResult run() {
     result_.pose_tag = plan_.pose_tag;
     result_.num_landmarks = plan_.num_landmarks;
-    for (std::size_t k = 0; k < plan_.poses.size(); ++k) {
+    for (std::size_t k = result_.first_step; k < plan_.poses.size(); ++k) {
       if (!runStep(k)) break;
+      if (options_.checkpoint_every > 0 && (k + 1) % options_.checkpoint_every == 0) {
+        checkpoint(k + 1);
+      }
     }
     result_.final_chi2 = optimizer_.chi2();
-    if (result_.ok && !result_.steps.empty() && options_.refine_threshold > 0.0) refine();
+    result_.marginalized = optimizer_.marginalizedCount();
+    result_.window_vertices = optimizer_.graph().numVertices();
+    if (result_.ok && !plan_.poses.empty() && options_.refine_threshold > 0.0) refine();
     return std::move(result_);
   }
 
@@ -182,6 +194,15 @@ class Replayer {
     const Vertex& pose = *plan_.poses[k];
     step.pose = pose.id();
     addPose(k);
+    if (options_.optimizer.window.enabled()) {
+      double stamp = std::numeric_limits<double>::quiet_NaN();
+      if (pose.parameterDataDimension() > 0) {
+        std::vector<double> data(static_cast<std::size_t>(pose.parameterDataDimension()));
+        pose.getParameterData(data.data());
+        stamp = data[0];
+      }
+      optimizer_.addState(pose.id(), stamp);
+    }
     if (k == 0) {
       for (const Vertex* v : plan_.unreached) {
         optimizer_.addVertex(copyVertex(*v, types_));
@@ -190,6 +211,7 @@ class Replayer {
       }
     }
     for (const Edge* e : plan_.edges[k]) {
+      if (refused(*e)) continue;
       step.new_landmarks += addLandmarksOf(*e);
       optimizer_.addEdge(copyEdge(*e, types_));
       ++step.new_edges;
@@ -212,6 +234,54 @@ class Replayer {
     result_.steps.push_back(step);
     if (options_.after_step) options_.after_step(k, result_.steps.back(), optimizer_.graph());
     return true;
+  }
+
+  /// Whether `edge` reaches a marginalised vertex: then the optimizer refuses it and the
+  /// refusal is counted.
+  bool refused(const Edge& edge) {
+    const auto ids = edge.vertexIds();
+    const bool again = options_.optimizer.window.reinitialize_landmarks;
+    if (std::none_of(ids.begin(), ids.end(), [&](VertexId id) {
+          // A landmark seen again is added anew (addLandmarksOf) when the window allows.
+          return optimizer_.isMarginalized(id) && !(again && !plan_.is_pose.count(id));
+        })) {
+      return false;
+    }
+    try {
+      optimizer_.addEdge(copyEdge(edge, types_));
+    } catch (const InputError& refusal) {
+      if (result_.refused_edges++ == 0) result_.first_refusal = refusal.what();
+      return true;
+    }
+    throw Error("replay: an edge to a marginalised vertex was not refused");
+  }
+
+  /// The optimizer's state and the replay's position (the next step) to the checkpoint.
+  void checkpoint(std::size_t next) {
+    std::string note = std::to_string(next) + ' ' + std::to_string(result_.gaps) + ' ' +
+                       std::to_string(result_.initialised_from_file) + ' ' +
+                       std::to_string(result_.refused_edges) + '\n' + result_.first_refusal + '\n';
+    if (options_.checkpoint_note) note += options_.checkpoint_note();
+    optimizer_.saveCheckpoint(options_.checkpoint_path, types_, note);
+  }
+
+  /// Loads the checkpoint to resume from and the replay's position in it.
+  void resume() {
+    const std::string note = optimizer_.loadCheckpoint(options_.resume_path, types_);
+    std::istringstream in(note);
+    std::size_t next = 0;
+    in >> next >> result_.gaps >> result_.initialised_from_file >> result_.refused_edges;
+    in.ignore(1);
+    std::getline(in, result_.first_refusal);
+    if (!in || next > plan_.poses.size()) {
+      throw InputError(options_.resume_path +
+                       ": checkpoint refused: it was not written by a replay of this input "
+                       "(its position is step " +
+                       std::to_string(next) + " of " + std::to_string(plan_.poses.size()) + ")");
+    }
+    result_.first_step = next;
+    std::string rest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (options_.on_resume) options_.on_resume(rest);
   }
 
   /// IncrementalOptimizer::refine() after the last step, timed apart.

@@ -33,6 +33,21 @@ class BaseVertex : public Vertex {
   void oplus(const double* delta) final {
     estimate_ = plus(estimate_, Eigen::Map<const TangentVector>(delta));
   }
+  /// The inverse of plus: writes delta with from (+) delta = x; false when the type does
+  /// not define it (the default).
+  [[nodiscard]] virtual bool minusEstimate(const EstimateType& /*x*/, const EstimateType& /*from*/,
+                                           TangentVector& /*delta*/) const {
+    return false;
+  }
+  [[nodiscard]] bool minus(const double* from, const double* step, double* delta) const final {
+    TangentVector d;
+    const EstimateType x =
+        step ? plus(estimate_, Eigen::Map<const TangentVector>(step)) : estimate_;
+    if (!minusEstimate(x, DataTraits<EstimateType>::fromData(from), d)) return false;
+    Eigen::Map<TangentVector> out(delta);
+    out = d;
+    return true;
+  }
   void push() final { backup_ = estimate_; }
   void pop() final { estimate_ = backup_; }
 

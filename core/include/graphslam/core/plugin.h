@@ -32,7 +32,7 @@ class FormatRegistry;
 /// The plugin ABI: bumped whenever PluginHost's layout or a registry's class changes in a
 /// way that a plugin built against the old header would misread. A plugin built for another
 /// ABI is refused (Plugin::load).
-#define GRAPHSLAM_PLUGIN_ABI 2
+#define GRAPHSLAM_PLUGIN_ABI 3
 inline constexpr std::uint32_t kPluginAbiVersion = GRAPHSLAM_PLUGIN_ABI;
 
 /// What a program hands to a plugin's entry: the ABI it was built with and its registries.

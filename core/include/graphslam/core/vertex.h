@@ -52,6 +52,15 @@ class Vertex {
 
   /// x <- x (+) delta, with `delta` of length `dimension()`.
   virtual void oplus(const double* delta) = 0;
+  /// The inverse of the update: writes delta (length `dimension()`) with
+  /// from (+) delta = x (+) step, where `from` is a flat estimate of this type and `step`
+  /// a tangent vector (nullptr: zero). False when the type does not define it (the
+  /// default); the built-in types do. Pure: the estimate is not changed. Used by the
+  /// marginalisation priors of the incremental optimizer (incremental/linear_prior_edge.h).
+  [[nodiscard]] virtual bool minus(const double* /*from*/, const double* /*step*/,
+                                   double* /*delta*/) const {
+    return false;
+  }
 
   /// Single-level backup of the estimate (used by the optimizer to undo rejected steps).
   virtual void push() = 0;

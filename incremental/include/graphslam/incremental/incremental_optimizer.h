@@ -3,13 +3,67 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "graphslam/core/graph.h"
+#include "graphslam/core/type_registry.h"
 
 namespace graphslam::incremental {
+
+/// A state of the fixed-lag window (IncrementalOptimizer::addState): a vertex and its time
+/// stamp (seconds; NaN when the stream has none).
+struct WindowState {
+  VertexId id = -1;
+  double stamp = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Fixed-lag smoothing: which states leave the optimisation, and what is told when they do.
+/// With every bound unset (the default) the optimizer keeps the full history. States are the
+/// vertices declared with IncrementalOptimizer::addState, oldest first; every other vertex
+/// (a landmark) leaves with the last state it has an edge to. A vertex that leaves is
+/// marginalised: the edges that touch it are linearised at the current estimates and the
+/// information they carry about the vertices that stay (the separator) is kept as one
+/// LinearPriorEdge on them (linear_prior_edge.h: the Schur complement of the leaving
+/// vertices). The prior is fixed at that linearisation point: later relinearisation of the
+/// separator does not change what the marginalised measurements said (the first-estimate
+/// consistency caveat of every fixed-lag smoother: the prior's linearisation point and the
+/// separator's current one differ, so the prior's Jacobian is that of the old point, and
+/// the estimate may be slightly overconfident in directions the data do not determine).
+struct WindowOptions {
+  /// Keep at most this many states (0: no bound by count)...
+  std::size_t states = 0;
+  /// ...marginalising only when the window holds more than states + slack, then down to
+  /// `states`: each marginalisation makes the next update() eliminate the whole window
+  /// afresh, so a slack of B does that once every B updates instead of at every one (the
+  /// updates between are incremental), for a window of up to states + B.
+  std::size_t slack = 0;
+  /// Keep only the states whose stamp is within this many seconds of the newest state's
+  /// (0: no bound by time; every state then needs a finite stamp).
+  double seconds = 0.0;
+  /// A keyframe policy: called after every successful update() with the window's states,
+  /// oldest first; returns states to marginalise now (any of them, not only the oldest;
+  /// ids that are not states of the window are an error). Combined with the bounds above.
+  std::function<std::vector<VertexId>(const std::vector<WindowState>& window)> policy;
+  /// Called with every vertex about to be marginalised (states oldest first, then the
+  /// landmarks by id), at its final estimate: to write the trajectory as it leaves.
+  std::function<void(const Vertex& vertex, const WindowState* state)> on_marginalised;
+  /// Directions of the Schur complement whose eigenvalue is below this fraction of the
+  /// largest are left out of the prior (the data do not determine them; 1e-12 is rounding
+  /// level for a condition number of 1e6 in the Jacobian).
+  double rank_tolerance = 1e-12;
+  /// A marginalised landmark (a vertex that is not a state) seen again: false (the default)
+  /// refuses the edge like one to a marginalised state; true accepts the landmark again as
+  /// a new vertex under its id (addVertex, initialised by the caller), with no information
+  /// from before (that went into the prior on the states), as a fixed-lag smoother starts a
+  /// new track. Marginalised states are refused either way.
+  bool reinitialize_landmarks = false;
+
+  [[nodiscard]] bool enabled() const { return states > 0 || seconds > 0.0 || policy; }
+};
 
 /// Tuning of IncrementalOptimizer. Measurements behind the defaults: docs/BENCHMARKS.md,
 /// section "Incremental optimisation".
@@ -61,6 +115,8 @@ struct Options {
   /// is eliminated again whole, so where fronts are small merging costs more than it saves
   /// (docs/BENCHMARKS.md, "Incremental optimisation", compares values).
   int chain_min_front_rows = 48;
+  /// Fixed-lag smoothing (default: full history).
+  WindowOptions window;
 };
 
 /// What one update() did.
@@ -72,8 +128,9 @@ struct UpdateStats {
   bool pass_limit_reached = false;
   int relinearized_vertices = 0;  ///< over all passes
   int relinearized_edges = 0;
-  int eliminated_columns = 0;  ///< vertex columns of the factor ordered and eliminated again
-  bool rebuilt = false;        ///< the graph changed outside the optimizer: full rebuild
+  int eliminated_columns = 0;     ///< vertex columns of the factor ordered and eliminated again
+  bool rebuilt = false;           ///< the graph changed outside the optimizer: full rebuild
+  int marginalized_vertices = 0;  ///< left the window after the update (states and landmarks)
 };
 
 /// Error of update(): a factor that is not positive definite (a vertex the edges do not
@@ -141,6 +198,41 @@ class IncrementalOptimizer {
   /// H^-1): cheap for recent vertices, which sit near the root of the elimination tree.
   /// Throws graphslam::Error for a fixed or unknown vertex, or before the first update().
   [[nodiscard]] Eigen::MatrixXd marginalCovariance(VertexId id) const;
+
+  /// Declares vertex `id` (in the graph) a state of the fixed-lag window, newer than those
+  /// declared before, with its time stamp. Throws graphslam::Error for an unknown vertex,
+  /// one declared already, or a stamp older than the newest state's.
+  void addState(VertexId id, double stamp = std::numeric_limits<double>::quiet_NaN());
+  /// Marginalises these states (and the landmarks that leave with them) now, as the window
+  /// does after an update; returns every vertex marginalised. Throws graphslam::Error for an
+  /// id that is not a state of the window, or for a vertex type without Vertex::minus.
+  std::vector<VertexId> marginalize(const std::vector<VertexId>& states);
+  /// Whether `id` was marginalised (and, for a landmark, not added again). Edges to it and
+  /// vertices with its id are refused (addEdge, addVertex throw graphslam::InputError
+  /// naming it), except a landmark's id with WindowOptions::reinitialize_landmarks.
+  [[nodiscard]] bool isMarginalized(VertexId id) const;
+  /// The window's states, oldest first.
+  [[nodiscard]] std::vector<WindowState> windowStates() const;
+  /// Vertices marginalised so far.
+  [[nodiscard]] std::size_t marginalizedCount() const;
+
+  /// Saves everything the optimizer needs to continue (graph, estimates, window, counters)
+  /// to `path`, atomically (support::writeFileAtomically: the previous file or the new one,
+  /// never a partial one), in the versioned checkpoint format of checkpoint.h, with the
+  /// caller's `note` (the position in its stream). The next update() relinearises every
+  /// vertex at its current estimate and eliminates the factor afresh, as an optimizer
+  /// resumed from this file does: so a run that checkpoints and the same run killed and
+  /// resumed reach bit-identical estimates. Needs an update() after the last change (throws
+  /// graphslam::Error otherwise, or for an edge with a robust kernel, which the format does
+  /// not hold yet).
+  void saveCheckpoint(const std::string& path, const TypeRegistry& types,
+                      const std::string& note = {});
+  /// Loads a checkpoint into this optimizer, whose graph must be empty and whose options
+  /// must be those the file was written with; returns the note saved with it. Throws
+  /// graphslam::InputError naming the file and what is wrong (not a checkpoint, another
+  /// version, truncated, checksum mismatch, an unknown type, other options); the graph is
+  /// then unchanged.
+  std::string loadCheckpoint(const std::string& path, const TypeRegistry& types);
 
   /// Vertex columns of the current factor and its non-zero blocks below the diagonal.
   [[nodiscard]] std::size_t factorColumns() const;

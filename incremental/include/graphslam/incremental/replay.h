@@ -80,6 +80,27 @@ struct ReplayOptions {
   /// Called after every step, outside the timed part, with the step's index, what it
   /// recorded and the graph as it now stands (e.g. to compare it with a batch solve).
   std::function<void(std::size_t step, const ReplayStep&, const Graph&)> after_step;
+  /// Fixed-lag smoothing (optimizer.window enabled): every pose is a state of the window
+  /// (IncrementalOptimizer::addState), stamped with its first line parameter when its type
+  /// has one (VERTEX_VEHICLE's time), else unstamped. An edge of the file to a marginalised
+  /// vertex (a loop closure or landmark observation reaching behind the window) is refused
+  /// by the optimizer and counted (ReplayResult::refused_edges), not added; with
+  /// optimizer.window.reinitialize_landmarks a marginalised landmark seen again is added
+  /// anew, placed by that observation (the protocol's first observation).
+  ///
+  /// Checkpoints: after every checkpoint_every-th step (0: never), the optimizer's state
+  /// and the replay's position go to checkpoint_path (IncrementalOptimizer::saveCheckpoint),
+  /// with checkpoint_note()'s string when set (the caller's own position, e.g. the length of
+  /// a file it appends to).
+  std::string checkpoint_path;
+  std::size_t checkpoint_every = 0;
+  std::function<std::string()> checkpoint_note;
+  /// Resume from this checkpoint (written by a replay of the same source with the same
+  /// options): the target starts as the file's graph and the replay continues at the step
+  /// after it; on_resume receives the caller's note. Fed the same source, the replay then
+  /// reaches the estimates of the uninterrupted replay bit for bit.
+  std::string resume_path;
+  std::function<void(const std::string& note)> on_resume;
 };
 
 /// Result of replayGraph.
@@ -101,6 +122,14 @@ struct ReplayResult {
   int initialised_from_file = 0;
   /// Poses after the first without an odometry edge to the previous pose (file's estimate).
   int gaps = 0;
+  /// The step the replay started at (after a resume: the step after the checkpoint's).
+  std::size_t first_step = 0;
+  /// Edges of the file refused because they reach a marginalised vertex, and the first
+  /// refusal's message (naming the vertex).
+  std::size_t refused_edges = 0;
+  std::string first_refusal;
+  std::size_t marginalized = 0;     ///< vertices marginalised out of the window in all
+  std::size_t window_vertices = 0;  ///< vertices in the graph at the end
   bool ok = true;
   /// On a failed update(): "step S (pose P): " and the failure's message, which names the
   /// vertex whose column failed ("the final refine(): " and the message when refine() failed).

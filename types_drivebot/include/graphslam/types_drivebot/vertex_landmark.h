@@ -16,6 +16,11 @@ class VertexLandmark final : public BaseVertex<2, Eigen::Vector2d> {
                                      const TangentVector& d) const override {
     return x + d;
   }
+  bool minusEstimate(const Eigen::Vector2d& x, const Eigen::Vector2d& from,
+                     TangentVector& d) const override {
+    d = x - from;
+    return true;
+  }
 };
 
 }  // namespace graphslam::types_drivebot

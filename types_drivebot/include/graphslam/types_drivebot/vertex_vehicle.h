@@ -27,6 +27,11 @@ class VertexVehicle final : public BaseVertex<3, Eigen::Vector3d> {
                                      const TangentVector& d) const override {
     return {x[0] + d[0], x[1] + d[1], wrapAngle(x[2] + d[2])};
   }
+  bool minusEstimate(const Eigen::Vector3d& x, const Eigen::Vector3d& from,
+                     TangentVector& d) const override {
+    d << x[0] - from[0], x[1] - from[1], wrapAngle(x[2] - from[2]);
+    return true;
+  }
 
   [[nodiscard]] double time() const { return time_; }
   void setTime(double time) { time_ = time; }

@@ -14,6 +14,10 @@ class VertexSE2 final : public BaseVertex<3, SE2> {
   [[nodiscard]] SE2 plus(const SE2& x, const TangentVector& d) const override {
     return SE2(x.translation() + d.head<2>(), x.angle() + d[2]);
   }
+  bool minusEstimate(const SE2& x, const SE2& from, TangentVector& d) const override {
+    d << x.translation() - from.translation(), normalizeAngle(x.angle() - from.angle());
+    return true;
+  }
 };
 
 }  // namespace graphslam::types_slam2d

@@ -28,9 +28,8 @@ struct DataTraits<geometry::SE3> {
     if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
       std::ostringstream msg;
       msg.precision(6);
-      msg << "the quaternion (qx qy qz qw) = (" << v[3] << " " << v[4] << " " << v[5] << " "
-          << v[6] << ") has norm " << norm << ", not 1 (tolerance " << kQuaternionNormTolerance
-          << ")";
+      msg << "the quaternion (qx qy qz qw) = (" << v[3] << " " << v[4] << " " << v[5] << " " << v[6]
+          << ") has norm " << norm << ", not 1 (tolerance " << kQuaternionNormTolerance << ")";
       throw InputError(msg.str());
     }
     return geometry::SE3::fromVectorQT(v);
@@ -50,6 +49,12 @@ class VertexSE3 final : public BaseVertex<6, SE3> {
   [[nodiscard]] SE3 plus(const SE3& x, const TangentVector& d) const override {
     return {x.so3() * geometry::SO3::exp(d.tail<3>()), x * Eigen::Vector3d(d.head<3>())};
   }
+  /// d = (R0^T (t - t0), Log(R0^T R)): the inverse of plus.
+  bool minusEstimate(const SE3& x, const SE3& from, TangentVector& d) const override {
+    const geometry::SO3 r0_inv = from.so3().inverse();
+    d << r0_inv * Eigen::Vector3d(x.translation() - from.translation()), (r0_inv * x.so3()).log();
+    return true;
+  }
 };
 
 /// 3D point — `.g2o` tag VERTEX_TRACKXYZ (x y z); the update adds.
@@ -58,6 +63,11 @@ class VertexPointXYZ final : public BaseVertex<3, Eigen::Vector3d> {
   [[nodiscard]] Eigen::Vector3d plus(const Eigen::Vector3d& x,
                                      const TangentVector& d) const override {
     return x + d;
+  }
+  bool minusEstimate(const Eigen::Vector3d& x, const Eigen::Vector3d& from,
+                     TangentVector& d) const override {
+    d = x - from;
+    return true;
   }
 };
 

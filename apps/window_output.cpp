@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+#include "window_output.h"
+
+#include <filesystem>
+
+#include "graphslam/core/graph_copy.h"
+#include "graphslam/incremental/linear_prior_edge.h"
+#include "graphslam/support/error.h"
+#include "graphslam/support/file_util.h"
+
+namespace graphslam::apps {
+
+MarginalisedOut::MarginalisedOut(std::string path, const TypeRegistry& types)
+    : path_(std::move(path)), types_(types) {}
+
+void MarginalisedOut::attach(incremental::WindowOptions& window) {
+  if (path_.empty()) return;
+  window.on_marginalised = [this](const Vertex& v, const incremental::WindowState*) { write(v); };
+}
+
+void MarginalisedOut::start() {
+  if (path_.empty()) return;
+  out_.open(path_, std::ios::binary | std::ios::trunc);
+  if (!out_) throw InputError(path_ + ": cannot write the marginalised vertices");
+}
+
+std::string MarginalisedOut::note() {
+  if (path_.empty()) return "0";
+  out_.flush();
+  if (!out_) throw Error(path_ + ": writing the marginalised vertices failed");
+  return std::to_string(static_cast<long long>(out_.tellp()));
+}
+
+void MarginalisedOut::resume(const std::string& note) {
+  if (path_.empty()) return;
+  std::uintmax_t length = 0;
+  try {
+    length = std::stoull(note);
+  } catch (const std::exception&) {
+    throw InputError("the checkpoint holds no length of the --marginalised-out file");
+  }
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path_, ec);
+  if (ec || size < length) {
+    throw InputError(path_ + ": shorter than when the checkpoint was written (" +
+                     std::to_string(length) + " bytes): not the file of that run");
+  }
+  std::filesystem::resize_file(path_, length);
+  out_.open(path_, std::ios::binary | std::ios::app);
+  if (!out_) throw InputError(path_ + ": cannot append the marginalised vertices");
+}
+
+void MarginalisedOut::write(const Vertex& v) {
+  const std::string* tag = types_.tagOf(v);
+  std::string line = tag ? *tag : std::string("UNKNOWN");
+  line += ' ';
+  line += std::to_string(v.id());
+  std::vector<double> data(static_cast<std::size_t>(v.estimateDataDimension()));
+  v.getEstimateData(data.data());
+  for (double x : data) support::appendDouble(line, x);
+  data.assign(static_cast<std::size_t>(v.parameterDataDimension()), 0.0);
+  v.getParameterData(data.data());
+  for (double x : data) support::appendDouble(line, x);
+  line += '\n';
+  out_ << line;
+}
+
+Graph withoutPriors(const Graph& graph, const TypeRegistry& types) {
+  Graph copy;
+  for (const auto& [id, p] : graph.parameters())
+    copy.addParameter(incremental::copyParameter(*p, types));
+  for (const auto& [id, v] : graph.vertices()) copy.addVertex(incremental::copyVertex(*v, types));
+  for (const auto& e : graph.edges()) {
+    if (dynamic_cast<const incremental::LinearPriorEdge*>(e.get())) continue;
+    Edge& c = copy.addEdge(incremental::copyEdge(*e, types));
+    if (!e->active()) copy.setEdgeActive(c, false);
+  }
+  return copy;
+}
+
+}  // namespace graphslam::apps

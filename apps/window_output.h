@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// What the fixed-lag window and checkpoints need in the tool (incremental, drivebot): the
+// --marginalised-out file and the graph written without the marginalisation priors.
+#pragma once
+
+#include <fstream>
+#include <string>
+
+#include "graphslam/core/graph.h"
+#include "graphslam/core/type_registry.h"
+#include "graphslam/incremental/incremental_optimizer.h"
+
+namespace graphslam::apps {
+
+/// The --marginalised-out file: each marginalised vertex appended as a `.g2o` vertex line
+/// (tag, id, estimate, line parameters) as it leaves the window. It is a stream, not an
+/// output put in place at the end: a checkpoint records its length, and a resumed run cuts
+/// it back to that length before appending, so that it ends as the uninterrupted run's.
+class MarginalisedOut {
+ public:
+  /// Nothing is written when `path` is empty.
+  MarginalisedOut(std::string path, const TypeRegistry& types);
+  /// Sets the window's on_marginalised to append here.
+  void attach(incremental::WindowOptions& window);
+  /// Starts the file empty (a new run).
+  void start();
+  /// Flushes and returns the length to record in a checkpoint.
+  [[nodiscard]] std::string note();
+  /// Cuts the file back to the length in `note` and appends from there. Throws
+  /// graphslam::InputError when the file is shorter (not the one the checkpoint saw).
+  void resume(const std::string& note);
+
+ private:
+  void write(const Vertex& v);
+  std::string path_;
+  const TypeRegistry& types_;
+  std::ofstream out_;
+};
+
+/// A copy of `graph` without its marginalisation priors (incremental::LinearPriorEdge, which
+/// `.g2o` has no line for), to write the window's graph.
+[[nodiscard]] Graph withoutPriors(const Graph& graph, const TypeRegistry& types);
+
+}  // namespace graphslam::apps

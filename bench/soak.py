@@ -1,0 +1,262 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Soak benchmark (issue 56): a long seeded DriveBot drive replayed through the incremental
+optimizer with the full history and with a fixed-lag window, side by side.
+
+usage: bench/soak.py GRAPHSLAM [--laps N] [--window N] [--slack B] [--seed S] [--work DIR]
+                     [--outage-every S --outage-seconds S] [--plots DIR] [--max-seconds S]
+
+The drive: `graphslam drivebot` on a generated scenario (a 100 m x 60 m rectangle driven
+--laps times, 28 landmarks beside the road; GPS every second, compass, laser), without
+optimising (--optimize-every 0 --final-iterations 0): its final.g2o is the measurement
+stream and steps.csv the ground truth. GPS outages: the GPS edges of every --outage-seconds
+long interval starting each --outage-every seconds are dropped from the stream. Then
+`graphslam incremental` replays the stream twice (full history; --window N poses with
+--marginalised-out), with --stats. Recorded per mode: the per-step update time (p50, p99,
+max) of each tenth of the run, the resident set size of the process
+after every step (the rss_kb column of --stats) against the step, and the APE of
+the vehicle positions against the ground truth (RMS of the position error, no alignment:
+GPS fixes the frame). Window mode's trajectory is the vertices as they left the window
+(frozen then) and the window's at the end. Prints a markdown table and, with --plots,
+writes soak_latency.png and soak_memory.png there (docs/images/soak_10laps_*.png are
+those of --laps 10) (matplotlib).
+
+--pose-stream N instead replays a synthetic pose graph of N poses (`graphslam simulate
+--poses N`, Manhattan world, no landmarks) through the window only (its loop closures reach
+behind the window and are refused) and prints the same latency and memory figures.
+"""
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+import time
+
+
+def scenario(folder, laps):
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "x0.txt"), "w") as f:
+        f.write("0 0 0\n")
+    with open(os.path.join(folder, "wp.txt"), "w") as f:
+        f.write("100 0\n100 60\n0 60\n0 0\n" * laps)
+    with open(os.path.join(folder, "lm.txt"), "w") as f:
+        for i in range(0, 100, 12):
+            f.write(f"{i} -6\n{i + 6} 66\n")
+        for j in range(0, 60, 12):
+            f.write(f"-6 {j}\n106 {j + 6}\n")
+
+
+def drop_gps(g2o, out, every, seconds):
+    """Copies the stream without the GPS edges of vertices whose time is in an outage."""
+    times, dropped = {}, 0
+    with open(g2o) as f, open(out, "w") as o:
+        for line in f:
+            t = line.split()
+            if t and t[0] == "VERTEX_VEHICLE":
+                times[t[1]] = float(t[5])
+            if t and t[0] == "EDGE_GPS" and every > 0:
+                if times.get(t[1], 0.0) % every < seconds:
+                    dropped += 1
+                    continue
+            o.write(line)
+    return dropped
+
+
+def run_sampled(cmd, max_seconds):
+    """Runs cmd, sampling VmRSS (kB) every 20 ms; returns (samples [(t, kB)], seconds)."""
+    start = time.monotonic()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    samples = []
+    while p.poll() is None:
+        try:
+            with open(f"/proc/{p.pid}/status") as f:
+                for line in f:
+                    if line.startswith("VmRSS:"):
+                        samples.append((time.monotonic() - start, int(line.split()[1])))
+        except OSError:
+            pass
+        if time.monotonic() - start > max_seconds:
+            p.kill()
+            sys.exit(f"soak: {' '.join(cmd)} exceeded {max_seconds} s")
+        time.sleep(0.02)
+    out = p.stdout.read()
+    if p.returncode != 0:
+        sys.exit(f"soak: {' '.join(cmd)} failed:\n{out}")
+    return samples, time.monotonic() - start, out
+
+
+def pct(values, p):
+    s = sorted(values)
+    if not s:
+        return float("nan")
+    return s[min(len(s) - 1, max(0, math.ceil(p / 100 * len(s)) - 1))]
+
+
+def deciles(stats_csv):
+    with open(stats_csv) as f:
+        rows = list(csv.DictReader(f))
+    secs = [float(r["seconds"]) for r in rows]
+    rss = [int(r["rss_kb"]) for r in rows]
+    n = len(secs)
+    out = []
+    for d in range(10):
+        part = [1e3 * s for s in secs[d * n // 10:(d + 1) * n // 10]]
+        out.append((pct(part, 50), pct(part, 99), max(part) if part else float("nan")))
+    return out, n, rss
+
+
+def trajectory(*files):
+    est = {}
+    for path in files:
+        with open(path) as f:
+            for line in f:
+                t = line.split()
+                if t and t[0] == "VERTEX_VEHICLE":
+                    est[round(float(t[5]), 6)] = (float(t[2]), float(t[3]))
+    return est
+
+
+def ape(est, truth_csv):
+    err = []
+    with open(truth_csv) as f:
+        for r in csv.DictReader(f):
+            key = round(float(r["time"]), 6)
+            if key in est:
+                x, y = est[key]
+                err.append((x - float(r["true_x"])) ** 2 + (y - float(r["true_y"])) ** 2)
+    return math.sqrt(sum(err) / len(err)), len(err)
+
+
+def rss_growth(rss):
+    """Growth of the RSS over the last half of the steps, relative."""
+    half = rss[len(rss) // 2:]
+    return (half[-1] - half[0]) / half[0]
+
+
+def plot(results, folder):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for name, r in results.items():
+        xs = [10 * d + 5 for d in range(10)]
+        ax.plot(xs, [d[1] for d in r["deciles"]], "o-", label=f"{name}: p99")
+        ax.plot(xs, [d[0] for d in r["deciles"]], "s--", label=f"{name}: p50")
+    ax.set_yscale("log")
+    ax.set_xlabel("tenth of the run (%)")
+    ax.set_ylabel("update time per step (ms)")
+    ax.set_title("Soak: per-step latency, DriveBot drive")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "soak_latency.png"), dpi=110)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for name, r in results.items():
+        n = len(r["rss"])
+        stride = max(1, n // 2000)
+        ax.plot([100 * k / n for k in range(0, n, stride)], [r["rss"][k] / 1024 for k in range(0, n, stride)],
+                label=name)
+    ax.set_xlabel("step (% of the run)")
+    ax.set_ylabel("resident memory (MB)")
+    ax.set_title("Soak: resident memory, DriveBot drive")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "soak_memory.png"), dpi=110)
+
+
+def pose_stream(a):
+    os.makedirs(a.work, exist_ok=True)
+    stream = os.path.join(a.work, "poses.g2o")
+    subprocess.run([a.graphslam, "simulate", "--poses", str(a.pose_stream), "--seed", str(a.seed), "-o", stream],
+                   check=True, stdout=subprocess.DEVNULL)
+    stats = os.path.join(a.work, "poses.csv")
+    cmd = [a.graphslam, "incremental", stream, "-q", "--refine", "0", "--no-batch", "--stats", stats,
+           "--window", str(a.window), "--window-slack", str(a.slack)]
+    _, seconds, out = run_sampled(cmd, a.max_seconds)
+    dec, steps, rss = deciles(stats)
+    print(f"pose stream: {steps} poses, window {a.window} (slack {a.slack}), {seconds:.1f} s\n")
+    print("| tenth | p50 (ms) | p99 (ms) | max (ms) | RSS at its end (MB) |")
+    print("|---|---|---|---|---|")
+    for d, (p50, p99, mx) in enumerate(dec):
+        end = min(len(rss) - 1, (d + 1) * len(rss) // 10 - 1)
+        print(f"| {d + 1} | {p50:.3f} | {p99:.3f} | {mx:.1f} | {rss[end] / 1024:.1f} |")
+    print(f"\np99 last / first tenth: {dec[-1][1] / dec[0][1]:.2f}; RSS growth over the last half: "
+          f"{100 * rss_growth(rss):.2f} %")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("graphslam")
+    ap.add_argument("--laps", type=int, default=73)
+    ap.add_argument("--window", type=int, default=200)
+    ap.add_argument("--slack", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--work", default="/tmp/graphslam-soak")
+    ap.add_argument("--outage-every", type=float, default=300.0)
+    ap.add_argument("--outage-seconds", type=float, default=60.0)
+    ap.add_argument("--plots", default="")
+    ap.add_argument("--max-seconds", type=float, default=900.0)
+    ap.add_argument("--modes", default="full,window")
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless every figure is finite and both runs covered every step")
+    ap.add_argument("--pose-stream", type=int, default=0)
+    a = ap.parse_args()
+    if a.pose_stream > 0:
+        return pose_stream(a)
+    os.makedirs(a.work, exist_ok=True)
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    os.environ.update(env)
+    scen = os.path.join(a.work, "scenario")
+    scenario(scen, a.laps)
+    drive = os.path.join(a.work, "drive")
+    subprocess.run([a.graphslam, "drivebot", "--scenario", scen, "--out", drive, "--seed", str(a.seed),
+                    "--sensors", "gps,compass,laser", "--optimize-every", "0", "--final-iterations", "0",
+                    "--max-steps", str(a.laps * 1500 + 1000)], check=True, stdout=subprocess.DEVNULL)
+    stream = os.path.join(a.work, "stream.g2o")
+    dropped = drop_gps(os.path.join(drive, "final.g2o"), stream, a.outage_every, a.outage_seconds)
+    truth = os.path.join(drive, "steps.csv")
+    results = {}
+    for mode in a.modes.split(","):
+        stats = os.path.join(a.work, f"{mode}.csv")
+        out = os.path.join(a.work, f"{mode}.g2o")
+        cmd = [a.graphslam, "incremental", stream, "-q", "--refine", "0", "--no-batch", "--stats", stats,
+               "-o", out]
+        files = [out]
+        if mode == "window":
+            marg = os.path.join(a.work, "marginalised.g2o")
+            cmd += ["--window", str(a.window), "--window-slack", str(a.slack), "--marginalised-out", marg,
+                    "--reinitialise-landmarks"]
+            files = [marg, out]
+        _, seconds, _ = run_sampled(cmd, a.max_seconds)
+        dec, steps, rss = deciles(stats)
+        err, matched = ape(trajectory(*files), truth)
+        results[mode] = {"deciles": dec, "rss": rss, "seconds": seconds, "ape": err,
+                         "steps": steps, "matched": matched, "growth": rss_growth(rss)}
+    print(f"drive: {a.laps} laps, seed {a.seed}, {next(iter(results.values()))['steps']} steps, "
+          f"{dropped} GPS fixes dropped in outages ({a.outage_seconds:g} s every {a.outage_every:g} s)\n")
+    print("| mode | run (s) | p50 first / last 10 % (ms) | p99 first / last 10 % (ms) | p99 ratio | "
+          "max (ms) | RSS end (MB) | RSS growth, last half | APE (m) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for mode, r in results.items():
+        d = r["deciles"]
+        name = mode if mode == "full" else f"window {a.window} (slack {a.slack})"
+        print(f"| {name} | {r['seconds']:.1f} | {d[0][0]:.3f} / {d[-1][0]:.3f} | {d[0][1]:.3f} / {d[-1][1]:.3f} "
+              f"| {d[-1][1] / d[0][1]:.2f} | {max(x[2] for x in d):.1f} | {r['rss'][-1] / 1024:.1f} "
+              f"| {100 * r['growth']:.1f} % | {r['ape']:.3f} |")
+    print("\nper tenth of the run, p99 (ms):")
+    for mode, r in results.items():
+        print(f"  {mode}: " + " ".join(f"{d[1]:.3f}" for d in r["deciles"]))
+    if "full" in results and "window" in results:
+        print(f"\nAPE window / full: {results['window']['ape'] / results['full']['ape']:.3f}")
+    if a.plots:
+        plot(results, a.plots)
+    if a.check:
+        for mode, r in results.items():
+            figures = [r["ape"], r["growth"]] + [x for d in r["deciles"] for x in d]
+            if not all(math.isfinite(x) for x in figures) or r["matched"] < r["steps"] - 1:
+                sys.exit(f"soak: {mode}: a figure is not finite or steps lack an estimate "
+                         f"({r['matched']} of {r['steps']} matched)")
+
+
+if __name__ == "__main__":
+    main()
