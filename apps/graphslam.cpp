@@ -35,6 +35,7 @@
 #include "output_set.h"
 #include "plotting.h"
 #include "robust_options.h"
+#include "view_output.h"
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -134,7 +135,7 @@ struct OptimizeOptions {
   std::string objective = "g2o";
   int iterations = 100;
   std::vector<std::string> plugins;
-  std::string damping, first_step, init, marginals_file, marginals_tag;
+  std::string damping, first_step, init, marginals_file, marginals_tag, view_page, view_covariance;
   bool quiet = false;
   bool drop_unobservable = false;
   Optimizer::Options options;
@@ -200,6 +201,7 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "graph is refused (exit 2)");
   declareRobustOptions(desc, o.robust);
   declareOutlierOptions(desc, o.outliers);
+  declareViewOptions(desc, o.view_page, o.view_covariance);
 }
 
 /// Parses and checks the options and fills the optimizer's; false after --help.
@@ -244,6 +246,9 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   o.quiet = vm.count("quiet") != 0;
   o.drop_unobservable = vm.count("drop-unobservable") != 0;
   checkOutlierOptions(vm, o.outliers);
+  if (!o.view_covariance.empty() && o.view_page.empty()) {
+    throw UsageError("--view-covariance needs --view PAGE.html");
+  }
   return true;
 }
 
@@ -288,7 +293,7 @@ LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
 /// Optimises `graph`, printing a line per iteration (unless quiet) and the summary, and
 /// collecting the lines of --stats in `csv`.
 Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOptions& o,
-                     std::vector<std::string>& csv) {
+                     std::vector<std::string>& csv, ViewRecorder& recorder) {
   const bool quiet = o.quiet;
   o.options.callback = [&csv, quiet](const IterationStats& s) {
     if (!quiet) {
@@ -301,6 +306,7 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
     }
     csv.push_back(csvLine(s));
   };
+  recorder.record(o.options, graph);
   support::setLogLevel(support::LogLevel::kInfo);
   support::setLogSink([](support::LogLevel level, const std::string& msg) {
     std::fprintf(level >= support::LogLevel::kWarning ? stderr : stdout, "%s: %s\n",
@@ -336,7 +342,8 @@ void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summa
 int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& graph,
                          const Registries& reg, const LoadedInput& in, const Summary& summary,
                          const std::vector<std::string>& csv, const outliers::GncResult& gnc,
-                         const std::map<VertexId, Eigen::Vector2d>& initial_positions) {
+                         const std::map<VertexId, Eigen::Vector2d>& initial_positions,
+                         ViewRecorder& recorder) {
   return outputs.writeAll([&] {
     if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
       const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
@@ -359,6 +366,12 @@ int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& gr
     if (!o.plot.empty()) {
       plotOptimized(o, outputs.staged(o.plot), summary, graph, initial_positions, in.ground_truth);
     }
+    if (recorder.on()) {
+      recorder.write(outputs.staged(o.view_page), graph, reg, in, optimizerSummaryLines(summary),
+                     &gnc, o.view_covariance.empty() ? std::vector<VertexId>{}
+                                                      : parseIdList(o.view_covariance, "view-covariance"));
+      std::cout << "wrote " << o.view_page << "\n";
+    }
     outputs.commit();
     return kExitOk;
   });
@@ -372,8 +385,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   checkRegistered(o, reg);
   checkRobustOptions(o.robust, reg);
   // Every output is checked before the work starts and written all or nothing.
-  OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file},
+  OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file,
+                     o.view_page},
                     {o.input});
+  ViewRecorder recorder(o.view_page);
   if (!o.plot.empty() && findPlotPython().empty()) {
     throw UsageError(
         "--plot needs Python 3 with matplotlib, and none was found (tried "
@@ -396,6 +411,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     exitWithoutFreeing(kExitBadInput);
   }
   outliers::GncResult gnc;
+  if (o.outliers.reject) recorder.captureEdgeTags(graph, reg.types);
   if (o.outliers.reject &&
       !rejectOutliersForOptimize(graph, reg.solvers, o.options, o.outliers, o.quiet, gnc)) {
     outputs.abort();
@@ -408,7 +424,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
   const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
-  const Summary summary = runOptimizer(graph, reg.solvers, o, csv);
+  recorder.captureInitial(graph, "start (--init " + o.init + ")");
+  const Summary summary = runOptimizer(graph, reg.solvers, o, csv, recorder);
   finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
     const auto final_errors = eval::positionErrors(graph, in.ground_truth);
@@ -436,7 +453,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     exitWithoutFreeing(kExitFailed);
   }
   exitWithoutFreeing(
-      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
+      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions, recorder));
 }
 
 }  // namespace
@@ -469,6 +486,7 @@ extern "C" __attribute__((visibility("default"))) int graphslam_tool_run(int arg
     if (command == "solvers") return cmdSolvers(args);
     if (command == "add-outliers") return cmdAddOutliers(args);
     if (command == "incremental") return cmdIncremental(args);
+    if (command == "view") return cmdView(args);
     if (command == "calibrate") return cmdCalibrate(args);
     std::cerr << "graphslam: unknown command '" << printable(command) << "'\n\n" << kMainUsage;
     return kExitBadInput;
