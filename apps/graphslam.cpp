@@ -343,7 +343,7 @@ int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& gr
                          const Registries& reg, const LoadedInput& in, const Summary& summary,
                          const std::vector<std::string>& csv, const outliers::GncResult& gnc,
                          const std::map<VertexId, Eigen::Vector2d>& initial_positions,
-                         ViewRecorder& recorder) {
+                         ViewRecorder& recorder, const std::vector<VertexId>& view_ids) {
   return outputs.writeAll([&] {
     if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
       const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
@@ -368,8 +368,7 @@ int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& gr
     }
     if (recorder.on()) {
       recorder.write(outputs.staged(o.view_page), graph, reg, in, optimizerSummaryLines(summary),
-                     &gnc, o.view_covariance.empty() ? std::vector<VertexId>{}
-                                                      : parseIdList(o.view_covariance, "view-covariance"));
+                     &gnc, view_ids);
       std::cout << "wrote " << o.view_page << "\n";
     }
     outputs.commit();
@@ -396,6 +395,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   }
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
+  const std::vector<VertexId> view_ids = o.view_covariance.empty()
+                                             ? std::vector<VertexId>{}
+                                             : parseIdList(o.view_covariance, "view-covariance");
+  checkVertexIds(graph, view_ids, "view-covariance");
   if (!checkFiniteTerms(in, o.output)) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
@@ -453,7 +456,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     exitWithoutFreeing(kExitFailed);
   }
   exitWithoutFreeing(
-      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions, recorder));
+      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions, recorder, view_ids));
 }
 
 }  // namespace

@@ -89,14 +89,18 @@ std::vector<std::pair<std::string, std::string>> optimizerSummaryLines(const Sum
           {"time", time}};
 }
 
-void addCovariances(view::Scene& scene, Graph& graph, const Registries& reg,
-                    const std::vector<VertexId>& ids, const std::string& option) {
-  if (ids.empty()) return;
+void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids, const std::string& option) {
   for (VertexId id : ids) {
     if (!graph.hasVertex(id)) {
       throw UsageError("--" + option + ": the graph has no vertex " + std::to_string(id));
     }
   }
+}
+
+void addCovariances(view::Scene& scene, Graph& graph, const Registries& reg,
+                    const std::vector<VertexId>& ids, const std::string& option) {
+  if (ids.empty()) return;
+  checkVertexIds(graph, ids, option);
   MarginalCovariance::Options options;
   options.solvers = &reg.solvers;
   MarginalCovariance marginals(options);
@@ -131,6 +135,19 @@ void ViewRecorder::write(const std::string& staged, Graph& graph, const Registri
   for (auto& f : frames_) scene.addIteration(f);
   for (const auto& [k, v] : summary) scene.addSummary(k, v);
   addCovariances(scene, graph, reg, covariance_ids, "view-covariance");
+  scene.writePage(staged);
+}
+
+void writeGraphView(const std::string& staged, Graph& graph, const Registries& reg,
+                    const std::string& title,
+                    const std::vector<std::pair<std::string, std::string>>& summary,
+                    const std::vector<std::pair<VertexId, std::size_t>>& vertex_lines,
+                    const std::string& source) {
+  view::Options options;
+  options.title = title;
+  view::Scene scene(graph, reg.types, options);
+  scene.setSourceLines(source, vertex_lines, {});
+  for (const auto& [k, v] : summary) scene.addSummary(k, v);
   scene.writePage(staged);
 }
 

@@ -22,6 +22,9 @@ void declareViewOptions(po::options_description& desc, std::string& page, std::s
 /// The vertex ids of a --view-covariance / --covariance list ("3,17,40"); throws UsageError.
 [[nodiscard]] std::vector<VertexId> parseIdList(const std::string& text, const std::string& option);
 
+/// Throws UsageError naming `option` and the first of `ids` that `graph` does not have.
+void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids, const std::string& option);
+
 /// Records what a page shows of an optimisation: the estimate it starts from and every
 /// iteration's (thinned evenly, doubling its stride, once more than the page keeps).
 class ViewRecorder {
@@ -60,6 +63,14 @@ class ViewRecorder {
 /// throws Error naming the vertices when they cannot be computed.
 void addCovariances(view::Scene& scene, Graph& graph, const Registries& reg,
                     const std::vector<VertexId>& ids, const std::string& option);
+
+/// A page of `graph` as it is (incremental and drivebot --view): `title`, the `summary`
+/// lines and, when known, the file line of each vertex.
+void writeGraphView(const std::string& staged, Graph& graph, const Registries& reg,
+                    const std::string& title,
+                    const std::vector<std::pair<std::string, std::string>>& summary,
+                    const std::vector<std::pair<VertexId, std::size_t>>& vertex_lines = {},
+                    const std::string& source = {});
 
 /// eval --view: the estimate (aligned as evaluated) coloured by its APE per pose, over the
 /// reference, written to `staged`.

@@ -251,3 +251,26 @@ TEST(View_Scene, ThreeDimensionalGraph) {
   const auto pos = field<float>(page, "pos");
   EXPECT_EQ(pos, (std::vector<float>{0, 2, 3, 1, 2, 3}));
 }
+
+TEST(View_Scene, OdometryJoinsPosesNextInIdOrderAcrossLandmarkIds) {
+  // One counter for poses and landmarks (as dlr.g2o, victoria_park.g2o): poses 0, 2, 3,
+  // landmark 1 between them.
+  TypeRegistry types;
+  types_slam2d::registerTypes(types);
+  Graph g;
+  for (int id : {0, 2, 3}) {
+    auto v = std::make_unique<types_slam2d::VertexSE2>();
+    v->setId(id);
+    g.addVertex(std::move(v));
+  }
+  auto l = std::make_unique<types_slam2d::VertexXY>();
+  l->setId(1);
+  g.addVertex(std::move(l));
+  for (std::vector<VertexId> ids : {std::vector<VertexId>{0, 2}, {2, 3}, {0, 3}}) {
+    auto e = std::make_unique<types_slam2d::EdgeSE2>();
+    e->setVertexIds(ids);
+    g.addEdge(std::move(e));
+  }
+  view::Scene scene(g, types);
+  EXPECT_EQ(field<std::uint8_t>(scene.html(), "ekind"), (std::vector<std::uint8_t>{0, 0, 1}));
+}

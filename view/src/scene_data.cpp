@@ -14,8 +14,12 @@ namespace graphslam::view {
 
 namespace {
 
+/// Odometry joins poses next to each other in id order (landmark ids between them do not
+/// count: some files number poses and landmarks with one counter); `rank` is a vertex's
+/// place among the poses.
 EdgeKind kindOfEdge(const Edge& e, const std::vector<VertexKind>& kinds_by_index,
-                    const std::map<const Vertex*, std::uint32_t>& index) {
+                    const std::map<const Vertex*, std::uint32_t>& index,
+                    const std::vector<std::int64_t>& rank) {
   if (e.numVertices() == 1) return EdgeKind::kPrior;
   bool point = false, generic = false;
   for (std::size_t s = 0; s < e.numVertices(); ++s) {
@@ -25,7 +29,8 @@ EdgeKind kindOfEdge(const Edge& e, const std::vector<VertexKind>& kinds_by_index
   }
   if (generic) return EdgeKind::kOther;
   if (point) return EdgeKind::kLandmark;
-  if (e.numVertices() == 2 && std::abs(static_cast<long long>(e.vertexId(0)) - e.vertexId(1)) == 1) {
+  if (e.numVertices() == 2 &&
+      std::abs(rank[index.at(e.vertex(0))] - rank[index.at(e.vertex(1))]) == 1) {
     return EdgeKind::kOdometry;
   }
   return EdgeKind::kLoopClosure;
@@ -95,6 +100,11 @@ void buildStructure(Graph& graph, const TypeRegistry& types, Scene::Data& d) {
     d.vtag.push_back(t);
     d.vfixed.push_back(v->fixed() ? 1 : 0);
   }
+  std::vector<std::int64_t> rank(kinds.size(), 0);
+  std::int64_t poses = 0;
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    if (kinds[i] == VertexKind::kPose) rank[i] = poses++;
+  }
   for (const auto& [tag, n] : generic) {
     d.notes.push_back("unknown vertex type " + tag + " (" + std::to_string(n) +
                       "): drawn as generic vertices from its first estimate values");
@@ -113,7 +123,7 @@ void buildStructure(Graph& graph, const TypeRegistry& types, Scene::Data& d) {
       d.xedge.push_back(static_cast<std::uint32_t>(k));
       d.xvertex.push_back(index.at(e.vertex(s)));
     }
-    d.ekind.push_back(static_cast<std::uint8_t>(kindOfEdge(e, kinds, index)));
+    d.ekind.push_back(static_cast<std::uint8_t>(kindOfEdge(e, kinds, index, rank)));
     std::uint8_t flag = e.active() ? 0 : kFlagInactive;
     if (e.robustKernel()) flag |= kFlagRobust;
     d.eflag.push_back(flag);

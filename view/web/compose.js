@@ -82,12 +82,12 @@
 
   /** The ground truth: a line through consecutive poses that have one, and its points. */
   function truthLayer(d) {
-    const layer = new Layer("lines", 2 * d.nv);
-    for (let i = 0; i + 1 < d.nv; i++) {
-      if (d.vkind[i] !== 0 || d.vkind[i + 1] !== 0) continue;
-      if (!isFinite(d.truth[i * d.dim]) || !isFinite(d.truth[(i + 1) * d.dim])) continue;
+    const layer = new Layer("lines", 2 * d.poses.length);
+    for (let j = 0; j + 1 < d.poses.length; j++) {
+      const i = d.poses[j], n = d.poses[j + 1];
+      if (!isFinite(d.truth[i * d.dim]) || !isFinite(d.truth[n * d.dim])) continue;
       layer.add(d.truth, i, d.dim, GV.TRUTH_COLOR);
-      layer.add(d.truth, i + 1, d.dim, GV.TRUTH_COLOR);
+      layer.add(d.truth, n, d.dim, GV.TRUTH_COLOR);
     }
     return layer;
   }
@@ -96,13 +96,13 @@
    * consecutive poses that have an error. */
   function apePathLayer(d, f) {
     const pos = d.frames[f].pos;
-    const layer = new Layer("lines", 2 * d.nv);
-    for (let i = 0; i + 1 < d.nv; i++) {
-      if (d.vkind[i] !== 0 || d.vkind[i + 1] !== 0) continue;
-      if (!isFinite(d.ape[i]) || !isFinite(d.ape[i + 1])) continue;
-      const c = GV.apeColor(0.5 * (d.ape[i] + d.ape[i + 1]), d.apeRange);
+    const layer = new Layer("lines", 2 * d.poses.length);
+    for (let j = 0; j + 1 < d.poses.length; j++) {
+      const i = d.poses[j], n = d.poses[j + 1];
+      if (!isFinite(d.ape[i]) || !isFinite(d.ape[n])) continue;
+      const c = GV.apeColor(0.5 * (d.ape[i] + d.ape[n]), d.apeRange);
       layer.add(pos, i, d.dim, c);
-      layer.add(pos, i + 1, d.dim, c);
+      layer.add(pos, n, d.dim, c);
     }
     return layer;
   }

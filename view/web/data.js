@@ -78,11 +78,17 @@
       if (d.eflag[k] & (GV.FLAG.inactive | GV.FLAG.removed)) d.flagCount.rejected++;
       if (d.eflag[k] & GV.FLAG.downweighted) d.flagCount.downweighted++;
     }
+    const poses = [];
+    for (let i = 0; i < d.nv; i++) if (d.vkind[i] === 0) poses.push(i);
+    d.poses = Uint32Array.from(poses); // pose indices in id order: the trajectory
     d.final = d.frames.length - 1;
     d.box = bounds(d.frames[d.final].pos, d.dim);
     const lchi = new Float32Array(d.ne);
     const last = d.frames[d.final].chi2;
-    for (let k = 0; k < d.ne; k++) lchi[k] = last[k] > 0 ? Math.log10(last[k]) : NaN;
+    for (let k = 0; k < d.ne; k++) {
+      const gone = d.eflag[k] & (GV.FLAG.inactive | GV.FLAG.removed);
+      lchi[k] = last[k] > 0 && !gone ? Math.log10(last[k]) : NaN;
+    }
     const q = GV.quantiles(lchi, [0.02, 0.98]);
     d.chi2Range = [q[0], Math.max(q[1], q[0] + 1e-6)];
     if (d.ape) {

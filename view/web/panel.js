@@ -89,10 +89,12 @@
     if (d.covariances.length) checkbox(layers, "covariance", "3-sigma covariance (" + d.covariances.length + ")", st.layers.covariance, [200, 0, 60], set);
 
     const colours = section(panel, "Colours");
-    select(colours, "color-by", "edges by", [["chi2", "chi2 contribution"], ["kind", "kind"]], st.colorBy, (v) => {
-      st.colorBy = v;
-      app.changed("colors");
-    });
+    if (d.ne > 0) {
+      select(colours, "color-by", "edges by", [["chi2", "chi2 contribution"], ["kind", "kind"]], st.colorBy, (v) => {
+        st.colorBy = v;
+        app.changed("colors");
+      });
+    }
     if (d.ape) {
       select(colours, "vertex-color-by", "vertices by", [["ape", "APE (evo's jet)"], ["type", "type"]], st.vertexColorBy, (v) => {
         st.vertexColorBy = v;
@@ -121,7 +123,7 @@
   GV.updatePanel = function (app) {
     const d = app.d, st = app.st;
     const ape = st.vertexColorBy === "ape" && d.ape;
-    if (st.colorBy === "chi2") {
+    if (st.colorBy === "chi2" && d.ne > 0) {
       GV.drawLegend(app.legend, "chi2", d.chi2Range);
       app.legendText.textContent =
         "edge chi2 (log scale): " + GV.fmt(Math.pow(10, d.chi2Range[0])) + " ... " + GV.fmt(Math.pow(10, d.chi2Range[1]));
@@ -132,7 +134,7 @@
       app.legend.getContext("2d").clearRect(0, 0, app.legend.width, app.legend.height);
       app.legendText.textContent = "edges coloured by kind (swatches above)";
     }
-    if (ape && st.colorBy === "chi2") app.legendText.textContent += "; vertices by APE " + GV.fmt(d.apeRange[0]) + " ... " + GV.fmt(d.apeRange[1]);
+    if (ape && st.colorBy === "chi2" && d.ne > 0) app.legendText.textContent += "; vertices by APE " + GV.fmt(d.apeRange[0]) + " ... " + GV.fmt(d.apeRange[1]);
     if (app.frameLabel) {
       const fr = d.frames[st.frame];
       app.frameLabel.textContent = fr.label + (fr.objective !== null && isFinite(fr.objective) ? "  chi2 " + GV.fmt(fr.objective) : "");
