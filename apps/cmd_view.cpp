@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // graphslam view: one self-contained web page to explore a graph (the view module).
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -76,9 +77,12 @@ int cmdView(const std::vector<std::string>& args) {
   for (const auto& note : in.notes) scene.addSummary("note", note);
   addCovariances(scene, in.graph, reg, ids, "covariance");
   return outputs.writeAll([&] {
+    const auto t0 = std::chrono::steady_clock::now();
     scene.writePage(outputs.staged(output));
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - t0;
     outputs.commit();
-    std::cout << "wrote " << output << " (" << std::filesystem::file_size(output) / 1024 << " KiB)\n";
+    std::cout << "wrote " << output << " (" << std::filesystem::file_size(output) / 1024
+              << " KiB) in " << took.count() << " s\n";
     return kExitOk;
   });
 }

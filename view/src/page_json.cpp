@@ -53,9 +53,10 @@ std::string jsonString(const std::string& text) {
 
 namespace {
 
+/// Base64 needs no escaping in JSON or HTML.
 template <typename T>
 std::string array(const std::vector<T>& v) {
-  return jsonString(base64(v.data(), v.size() * sizeof(T)));
+  return "\"" + base64(v.data(), v.size() * sizeof(T)) + "\"";
 }
 
 std::string strings(const std::vector<std::string>& v) {

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <unordered_map>
 
 #include "graphslam/core/edge.h"
 #include "graphslam/support/error.h"
@@ -18,7 +19,7 @@ namespace {
 /// count: some files number poses and landmarks with one counter); `rank` is a vertex's
 /// place among the poses.
 EdgeKind kindOfEdge(const Edge& e, const std::vector<VertexKind>& kinds_by_index,
-                    const std::map<const Vertex*, std::uint32_t>& index,
+                    const std::unordered_map<const Vertex*, std::uint32_t>& index,
                     const std::vector<std::int64_t>& rank) {
   if (e.numVertices() == 1) return EdgeKind::kPrior;
   bool point = false, generic = false;
@@ -86,7 +87,8 @@ void checkFinite(const Graph& graph) {
 }
 
 void buildStructure(Graph& graph, const TypeRegistry& types, Scene::Data& d) {
-  std::map<const Vertex*, std::uint32_t> index;
+  std::unordered_map<const Vertex*, std::uint32_t> index;
+  index.reserve(graph.numVertices());
   std::vector<VertexKind> kinds;
   std::map<std::string, std::size_t> generic;
   for (const auto& [id, v] : graph.vertices()) {

@@ -28,6 +28,9 @@
     const cam = new GV.Camera(d.dim, d.box);
     const app = { d: d, st: initialState(d), cam: cam, renderer: renderer };
     let dirtyLayers = true, pending = false, moving = false, idleTimer = 0, xy = null;
+    // Level of detail: at most this many segments per layer while the view moves, halved
+    // (down to 20000) whenever a moving frame takes longer than 40 ms.
+    let lodBudget = d.lodEdges;
     const frameTimes = [];
 
     function draw() {
@@ -41,21 +44,26 @@
       }
       cam.resize(w, h);
       if (dirtyLayers) {
-        renderer.setLayers(GV.compose(d, app.st), d.lodEdges);
+        renderer.setLayers(GV.compose(d, app.st), lodBudget);
         dirtyLayers = false;
       }
       const m = cam.matrix();
       api.drawn = renderer.draw(m, canvas.width, canvas.height, moving);
+      renderer.sync(); // the frame time includes the GPU's work
       api.draws = (api.draws || 0) + 1;
       xy = null;
       const dt = GV.now() - t;
+      if (moving && dt > 40 && lodBudget > 20000 && d.ne > 20000) {
+        lodBudget = Math.max(20000, lodBudget >> 1);
+        renderer.setLod(lodBudget);
+      }
       frameTimes.push(dt);
       if (frameTimes.length > 60) frameTimes.shift();
       const sorted = frameTimes.slice().sort((a, b) => a - b);
       api.frameTimeMs = sorted[Math.floor(sorted.length / 2)];
       app.perfBox.textContent =
         renderer.kind + ", frame " + api.frameTimeMs.toFixed(1) + " ms (median of " + frameTimes.length + ")" +
-        (moving && d.ne > d.lodEdges ? ", level of detail" : "");
+        (moving && d.ne > lodBudget ? ", level of detail (" + lodBudget + " edges)" : "");
     }
     function redraw() {
       if (!pending) {
@@ -88,7 +96,13 @@
     GV.updatePanel(app);
     bindInput(canvas, app, { interacting, redraw, screen, show, dirty: () => (dirtyLayers = true) });
     window.addEventListener("resize", redraw);
+    // A graph beyond the level-of-detail bound shows its subsample first, every edge next.
+    moving = d.ne > lodBudget;
     draw();
+    if (moving) {
+      moving = false;
+      setTimeout(redraw, 0);
+    }
 
     api.data = d;
     api.state = app.st;

@@ -15,6 +15,12 @@
     this.lodEdges = Math.min(lodEdges, 200000);
   };
 
+  GV.CanvasRenderer.prototype.sync = function () {};
+
+  GV.CanvasRenderer.prototype.setLod = function (lodEdges) {
+    this.lodEdges = Math.min(lodEdges, 200000);
+  };
+
   GV.CanvasRenderer.prototype.draw = function (m, w, h, moving) {
     const g = this.g;
     const dpr = window.devicePixelRatio || 1;

@@ -18,7 +18,7 @@
 
   /** The renderer on `canvas`, or null when WebGL is not available. */
   GV.GLRenderer = function (canvas) {
-    const gl = canvas.getContext("webgl", { antialias: true, preserveDrawingBuffer: true });
+    const gl = canvas.getContext("webgl", { antialias: false, preserveDrawingBuffer: true });
     if (!gl) return null;
     const prog = gl.createProgram();
     gl.attachShader(prog, compile(gl, gl.VERTEX_SHADER, VS));
@@ -59,23 +59,42 @@
     return { pos: pos, col: col, count: 2 * n };
   }
 
+  function release(gl, x) {
+    if (!x) return;
+    gl.deleteBuffer(x.pb);
+    gl.deleteBuffer(x.cb);
+  }
+
   GV.GLRenderer.prototype.setLayers = function (layers, lodEdges) {
     const gl = this.gl;
     for (const b of this.buffers) {
-      for (const x of [b.full, b.lod]) {
-        if (!x) continue;
-        gl.deleteBuffer(x.pb);
-        gl.deleteBuffer(x.cb);
-      }
+      release(gl, b.full);
+      release(gl, b.lod);
     }
-    this.buffers = layers.map((l) => {
-      const entry = { mode: l.mode, size: l.size, full: upload(gl, l.pos, l.col, l.count) };
+    this.layers = layers;
+    this.buffers = layers.map((l) => ({ mode: l.mode, size: l.size, full: upload(gl, l.pos, l.col, l.count) }));
+    this.setLod(lodEdges);
+  };
+
+  /** Subsamples of the lines layers with more than `lodEdges` segments, drawn while moving. */
+  GV.GLRenderer.prototype.setLod = function (lodEdges) {
+    const gl = this.gl;
+    this.layers.forEach((l, i) => {
+      const b = this.buffers[i];
+      release(gl, b.lod);
+      b.lod = null;
       if (l.mode === "lines" && l.count / 2 > lodEdges) {
         const s = subsample(l, Math.ceil(l.count / 2 / lodEdges));
-        entry.lod = upload(gl, s.pos, s.col, s.count);
+        b.lod = upload(gl, s.pos, s.col, s.count);
       }
-      return entry;
     });
+  };
+
+  /** Waits until the GPU has drawn everything asked so far (a one-pixel read-back): the
+   * honest end of a frame for timing. */
+  GV.GLRenderer.prototype.sync = function () {
+    const px = new Uint8Array(4);
+    this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, px);
   };
 
   /** Draws the layers under the world-to-clip matrix `m`; `moving` draws the subsamples.
