@@ -81,8 +81,11 @@ int cmdView(const std::vector<std::string>& args) {
     scene.writePage(outputs.staged(output));
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - t0;
     outputs.commit();
-    std::cout << "wrote " << output << " (" << std::filesystem::file_size(output) / 1024
-              << " KiB) in " << took.count() << " s\n";
+    std::error_code ec;  // no size for a device or a FIFO
+    const auto size = std::filesystem::file_size(output, ec);
+    std::cout << "wrote " << output;
+    if (!ec) std::cout << " (" << size / 1024 << " KiB)";
+    std::cout << " in " << took.count() << " s\n";
     return kExitOk;
   });
 }

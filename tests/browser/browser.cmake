@@ -2,7 +2,7 @@
 # One browser test of the viewer: writes a page with the tool, then opens it in headless
 # Chromium (view_browser_test.py). Prints "SKIP: ..." (the test's skip expression) without
 # Chromium, the Python interpreter or the dataset.
-#   cmake -DTOOL=graphslam -DDATA=datasets -DWORK=dir -DCASE=intel|landmarks|sphere|outliers|eval
+#   cmake -DTOOL=graphslam -DDATA=datasets -DWORK=dir -DCASE=intel|canvas|landmarks|sphere|outliers|eval
 #         -DPYTHON=/usr/bin/python3 -DSCRIPT=view_browser_test.py [-DSHOTS=docs/images] -P browser.cmake
 file(MAKE_DIRECTORY "${WORK}")
 if(DEFINED ENV{GRAPHSLAM_DATA})
@@ -47,6 +47,12 @@ if(CASE STREQUAL "intel")
     run(optimize "${DATA}/intel.g2o" -q --view "${page}")
   endif()
   set(checks --slider)
+elseif(CASE STREQUAL "canvas")  # the canvas 2D fallback on the intel page
+  need(intel.g2o)
+  if(NOT missing)
+    run(optimize "${DATA}/intel.g2o" -q --view "${page}")
+  endif()
+  set(checks --slider --canvas)
 elseif(CASE STREQUAL "landmarks")
   need(dlr.g2o)
   if(NOT missing)

@@ -165,6 +165,7 @@ def main():
     ap.add_argument("--slider", action="store_true", help="the page has iterations")
     ap.add_argument("--expect-3d", action="store_true")
     ap.add_argument("--expect-rejected", action="store_true")
+    ap.add_argument("--canvas", action="store_true", help="the canvas 2D fallback (#canvas)")
     ap.add_argument("--ape", action="store_true", help="a trajectory coloured by APE")
     ap.add_argument("--orbit", action="store_true", help="report the frame time while orbiting")
     ap.add_argument("--timeout", type=float, default=60)
@@ -176,14 +177,16 @@ def main():
     b = cdp.Browser(chromium)
     try:
         t0 = time.time()
-        b.call("Page.navigate", {"url": "file://" + os.path.abspath(args.page)})
+        url = "file://" + os.path.abspath(args.page) + ("#canvas" if args.canvas else "")
+        b.call("Page.navigate", {"url": url})
         wait = wait_ready(b, args.timeout)
         info = b.evaluate("""(() => { const v = window.graphslamView; return {readyMs: v.readyMs,
           decodeMs: v.decodeMs, renderer: v.renderer, dim: v.data.dim, nv: v.data.nv, ne: v.data.ne,
           rejected: v.data.flagCount.rejected, frames: v.data.frames.length}; })()""")
         print("page ready after %.2f s (script %.0f ms, decode %.0f ms): %s" %
               (time.time() - t0, info["readyMs"], info["decodeMs"], json.dumps(info)))
-        expect(info["renderer"] == "webgl", "drawn with WebGL")
+        want = "canvas" if args.canvas else "webgl"
+        expect(info["renderer"] == want, "drawn with " + want)
         expect(info["dim"] == (3 if args.expect_3d else 2), "a %dD graph" % info["dim"])
         if args.expect_rejected:
             expect(info["rejected"] > 0, "%d rejected edges marked" % info["rejected"])
