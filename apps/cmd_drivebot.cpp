@@ -19,8 +19,8 @@
 #include "graphslam/support/file_util.h"
 #include "graphslam/support/logging.h"
 #include "output_set.h"
-#include "view_output.h"
 #include "plotting.h"
+#include "view_output.h"
 
 namespace graphslam::apps {
 
@@ -505,7 +505,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     runPlotScript("plot_drivebot.py", args);
   }
   if (!view_page.empty()) {
-    writeGraphView(view_output.staged(view_page), system.graph(), reg, scenario.name + " (DriveBot)",
+    writeGraphView(view_output.staged(view_page), system.graph(), reg,
+                   scenario.name + " (DriveBot)",
                    {{"optimizer", optimizer}, {"scenario", scenario.name}});
   }
   outputs.commit();

@@ -16,8 +16,8 @@
 #include "graphslam/support/file_util.h"
 #include "input.h"
 #include "output_set.h"
-#include "view_output.h"
 #include "plotting.h"
+#include "view_output.h"
 
 namespace graphslam::apps {
 

@@ -413,7 +413,9 @@ int cmdEval(const std::vector<std::string>& args) {
     if (!o.view.empty()) {
       writeTrajectoryView(outputs.staged(o.view), e.ref_used, e.est_used, e.errors, reg,
                           std::filesystem::path(o.est_path).filename().string(),
-                          {{"metric", title}, {"alignment", mode}, {"rmse", support::formatDouble(e.stats.rmse)},
+                          {{"metric", title},
+                           {"alignment", mode},
+                           {"rmse", support::formatDouble(e.stats.rmse)},
                            {"max", support::formatDouble(e.stats.max)}});
       std::printf("wrote %s\n", o.view.c_str());
     }

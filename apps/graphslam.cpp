@@ -384,9 +384,9 @@ int cmdOptimize(const std::vector<std::string>& args) {
   checkRegistered(o, reg);
   checkRobustOptions(o.robust, reg);
   // Every output is checked before the work starts and written all or nothing.
-  OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file,
-                     o.view_page},
-                    {o.input});
+  OutputSet outputs(
+      {o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file, o.view_page},
+      {o.input});
   ViewRecorder recorder(o.view_page);
   if (!o.plot.empty() && findPlotPython().empty()) {
     throw UsageError(
@@ -455,8 +455,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
-  exitWithoutFreeing(
-      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions, recorder, view_ids));
+  exitWithoutFreeing(writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc,
+                                          initial_positions, recorder, view_ids));
 }
 
 }  // namespace

@@ -3,11 +3,11 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <charconv>
 #include <set>
 
 #include "graphslam/optimizer/marginals.h"
@@ -33,7 +33,8 @@ std::vector<VertexId> parseIdList(const std::string& text, const std::string& op
     VertexId id = 0;
     const auto r = std::from_chars(item.data(), item.data() + item.size(), id);
     if (item.empty() || r.ec != std::errc() || r.ptr != item.data() + item.size()) {
-      throw UsageError("--" + option + ": '" + item + "' is not a vertex id (ids separated by commas)");
+      throw UsageError("--" + option + ": '" + item +
+                       "' is not a vertex id (ids separated by commas)");
     }
     ids.push_back(id);
     at = comma + 1;
@@ -60,15 +61,18 @@ void ViewRecorder::captureEdgeTags(const Graph& graph, const TypeRegistry& types
 void ViewRecorder::record(Optimizer::Options& options, const Graph& graph) {
   if (!on()) return;
   std::size_t doubles = 0;
-  for (const auto& [id, v] : graph.vertices()) doubles += static_cast<std::size_t>(v->estimateDataDimension());
+  for (const auto& [id, v] : graph.vertices())
+    doubles += static_cast<std::size_t>(v->estimateDataDimension());
   // Snapshots hold doubles; the page's frames floats of the positions only.
   const std::size_t keep = std::max<std::size_t>(
-      2, std::min(options_.max_frames, 2 * options_.max_frame_bytes / std::max<std::size_t>(8 * doubles, 1)));
+      2, std::min(options_.max_frames,
+                  2 * options_.max_frame_bytes / std::max<std::size_t>(8 * doubles, 1)));
   auto previous = options.callback;
   options.callback = [this, previous, &graph, keep](const IterationStats& s) {
     if (previous) previous(s);
     if (seen_++ % stride_ != 0) return;
-    frames_.push_back(view::captureEstimates(graph, "iteration " + std::to_string(s.iteration), s.chi2));
+    frames_.push_back(
+        view::captureEstimates(graph, "iteration " + std::to_string(s.iteration), s.chi2));
     if (frames_.size() <= keep) return;
     std::vector<view::Snapshot> kept;  // every other one, the first kept
     for (std::size_t i = 0; i < frames_.size(); i += 2) kept.push_back(std::move(frames_[i]));
@@ -82,14 +86,17 @@ std::vector<std::pair<std::string, std::string>> optimizerSummaryLines(const Sum
   std::snprintf(chi2, sizeof chi2, "%.6g -> %.6g", summary.initial_chi2, summary.final_chi2);
   char time[32];
   std::snprintf(time, sizeof time, "%.3f s", summary.total_time);
-  return {{"status", toString(summary.status) + (summary.message.empty() ? "" : ": " + summary.message)},
-          {"algorithm", std::string(toString(summary.algorithm)) + ", " + std::to_string(summary.iterations) + " iterations"},
+  return {{"status",
+           toString(summary.status) + (summary.message.empty() ? "" : ": " + summary.message)},
+          {"algorithm", std::string(toString(summary.algorithm)) + ", " +
+                            std::to_string(summary.iterations) + " iterations"},
           {"solver", summary.linear_solver},
           {"chi2", chi2},
           {"time", time}};
 }
 
-void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids, const std::string& option) {
+void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids,
+                    const std::string& option) {
   for (VertexId id : ids) {
     if (!graph.hasVertex(id)) {
       throw UsageError("--" + option + ": the graph has no vertex " + std::to_string(id));
@@ -123,7 +130,8 @@ void ViewRecorder::write(const std::string& staged, Graph& graph, const Registri
     for (const auto& r : gnc->rejected) {
       gone.insert(r.index);
       const std::string tag = r.index < edge_tags_.size() ? edge_tags_[r.index] : "(rejected)";
-      scene.addRejectedEdge(r.vertex_ids, tag, r.chi2, r.index < in.edge_lines.size() ? in.edge_lines[r.index] : 0);
+      scene.addRejectedEdge(r.vertex_ids, tag, r.chi2,
+                            r.index < in.edge_lines.size() ? in.edge_lines[r.index] : 0);
     }
     lines.clear();
     for (std::size_t k = 0; k < in.edge_lines.size(); ++k) {
@@ -157,7 +165,8 @@ void writeTrajectoryView(const std::string& staged, const io::Trajectory& refere
                          const std::vector<std::pair<std::string, std::string>>& summary) {
   bool planar = true;
   for (const auto& p : estimate.poses()) {
-    planar = planar && std::abs(p.translation().z()) < 1e-9 && std::abs(p.linear()(2, 2) - 1) < 1e-9;
+    planar =
+        planar && std::abs(p.translation().z()) < 1e-9 && std::abs(p.linear()(2, 2) - 1) < 1e-9;
   }
   for (const auto& p : reference.poses()) planar = planar && std::abs(p.translation().z()) < 1e-9;
   Graph graph;

@@ -23,7 +23,8 @@ void declareViewOptions(po::options_description& desc, std::string& page, std::s
 [[nodiscard]] std::vector<VertexId> parseIdList(const std::string& text, const std::string& option);
 
 /// Throws UsageError naming `option` and the first of `ids` that `graph` does not have.
-void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids, const std::string& option);
+void checkVertexIds(const Graph& graph, const std::vector<VertexId>& ids,
+                    const std::string& option);
 
 /// Records what a page shows of an optimisation: the estimate it starts from and every
 /// iteration's (thinned evenly, doubling its stride, once more than the page keeps).
@@ -42,7 +43,8 @@ class ViewRecorder {
   /// Writes the page for `graph` to `staged`: the recorded estimates, the source lines of
   /// `in` (edge lines before `gnc` removed its rejected edges, which are drawn as such), the
   /// covariances of `covariance_ids` and the `summary` lines. Throws Error.
-  void write(const std::string& staged, Graph& graph, const Registries& reg, const io::GraphFile& in,
+  void write(const std::string& staged, Graph& graph, const Registries& reg,
+             const io::GraphFile& in,
              const std::vector<std::pair<std::string, std::string>>& summary,
              const outliers::GncResult* gnc, const std::vector<VertexId>& covariance_ids);
 

@@ -16,8 +16,8 @@
 #include "graphslam/core/graph.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/support/error.h"
-#include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_prior_se2.h"
+#include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/edge_se2_xy.h"
 #include "graphslam/types_slam2d/register.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
@@ -34,7 +34,8 @@ namespace {
 /// A vertex type the viewer does not know.
 class VertexOdd final : public BaseVertex<2, Eigen::Vector2d> {
  public:
-  [[nodiscard]] Eigen::Vector2d plus(const Eigen::Vector2d& x, const TangentVector& d) const override {
+  [[nodiscard]] Eigen::Vector2d plus(const Eigen::Vector2d& x,
+                                     const TangentVector& d) const override {
     return x + d;
   }
 };
@@ -109,8 +110,8 @@ TEST_F(View_Page, PageHoldsTheGraphAndItsScript) {
   scene.setSourceLines("square.g2o", {{0, 1}, {1, 2}, {10, 9}}, {11, 12, 13, 14, 15, 16});
   const std::string page = scene.html();
   EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
-  EXPECT_NE(page.find("WebGL"), std::string::npos);  // the embedded script
-  EXPECT_NE(page.find("#panel"), std::string::npos);  // the embedded style
+  EXPECT_NE(page.find("WebGL"), std::string::npos);             // the embedded script
+  EXPECT_NE(page.find("#panel"), std::string::npos);            // the embedded style
   EXPECT_EQ(page.find("square </script>"), std::string::npos);  // the title is escaped
   EXPECT_EQ(page.find("http://"), std::string::npos);           // nothing to fetch
   EXPECT_EQ(page.find("https://"), std::string::npos);
@@ -118,7 +119,8 @@ TEST_F(View_Page, PageHoldsTheGraphAndItsScript) {
   EXPECT_EQ(field<std::int32_t>(page, "vid"), (std::vector<std::int32_t>{0, 1, 2, 3, 10}));
   EXPECT_EQ(field<std::int32_t>(page, "vline"), (std::vector<std::int32_t>{1, 2, 0, 0, 9}));
   EXPECT_EQ(field<std::uint8_t>(page, "ekind"), (std::vector<std::uint8_t>{0, 0, 0, 1, 2, 3}));
-  EXPECT_EQ(field<std::int32_t>(page, "eline"), (std::vector<std::int32_t>{11, 12, 13, 14, 15, 16}));
+  EXPECT_EQ(field<std::int32_t>(page, "eline"),
+            (std::vector<std::int32_t>{11, 12, 13, 14, 15, 16}));
   const auto pos = field<float>(page, "pos");
   ASSERT_EQ(pos.size(), 10u);
   EXPECT_FLOAT_EQ(pos[8], 0.5f);
@@ -147,7 +149,9 @@ TEST_F(View_Page, IterationsAreFramesAndTheEstimateIsRestored) {
   const std::string page = scene.html();
   // initial, 3 iterations (first, middle, last), the current estimate.
   std::size_t frames = 0;
-  for (std::size_t at = page.find("\"label\":"); at != std::string::npos; at = page.find("\"label\":", at + 1)) ++frames;
+  for (std::size_t at = page.find("\"label\":"); at != std::string::npos;
+       at = page.find("\"label\":", at + 1))
+    ++frames;
   EXPECT_EQ(frames, 5u);
   EXPECT_NE(page.find("iteration 10"), std::string::npos);
   EXPECT_NE(page.find("iteration 1\""), std::string::npos);
@@ -162,8 +166,8 @@ TEST_F(View_Page, RejectedAndInactiveEdgesAreMarked) {
   const std::string page = scene.html();
   const auto flags = field<std::uint8_t>(page, "eflag");
   ASSERT_EQ(flags.size(), 7u);
-  EXPECT_EQ(flags[3] & 1, 1);   // inactive
-  EXPECT_EQ(flags[6], 1 | 8);   // removed as an outlier
+  EXPECT_EQ(flags[3] & 1, 1);  // inactive
+  EXPECT_EQ(flags[6], 1 | 8);  // removed as an outlier
   EXPECT_EQ(field<std::int32_t>(page, "eline").back(), 40);
   EXPECT_EQ(field<float>(page, "chi2").back(), 123.0f);
   EXPECT_THROW(scene.addRejectedEdge({1, 99}, "EDGE_SE2", 1.0, 0), Error);
@@ -214,7 +218,8 @@ TEST_F(View_Page, NonFiniteEstimatesAreRefusedNamingTheVertices) {
     scene.writePage(out.string());
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not finite (NaN or infinite): 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not finite (NaN or infinite): 2"), std::string::npos)
+        << e.what();
   }
   EXPECT_FALSE(fs::exists(out));
 }

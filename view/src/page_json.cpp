@@ -97,7 +97,8 @@ std::string dataJson(const Scene::Data& d, const std::string& title, const std::
   out += ",\"lodEdges\":" + std::to_string(options.lod_edges);
   out += ",\"vertexTags\":" + strings(d.vertex_tags) + ",\"vertexTagKinds\":[" + kinds + "]";
   out += ",\"edgeTags\":" + strings(d.edge_tags) + ",\"notes\":" + strings(d.notes);
-  out += ",\"vid\":" + array(d.vid) + ",\"vtag\":" + array(d.vtag) + ",\"vfixed\":" + array(d.vfixed);
+  out +=
+      ",\"vid\":" + array(d.vid) + ",\"vtag\":" + array(d.vtag) + ",\"vfixed\":" + array(d.vfixed);
   out += ",\"vline\":" + array(d.vline);
   out += ",\"ea\":" + array(d.ea) + ",\"eb\":" + array(d.eb) + ",\"ekind\":" + array(d.ekind);
   out += ",\"etag\":" + array(d.etag) + ",\"eflag\":" + array(d.eflag);

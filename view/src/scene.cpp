@@ -96,7 +96,8 @@ std::string Scene::html() {
     d.eline.push_back(lines ? static_cast<std::int32_t>(edge_lines_[k]) : 0);
   }
   // The current estimate, last frame; its robust weights mark the down-weighted edges.
-  const Snapshot current = captureEstimates(graph_, "optimised", std::numeric_limits<double>::quiet_NaN());
+  const Snapshot current =
+      captureEstimates(graph_, "optimised", std::numeric_limits<double>::quiet_NaN());
   std::vector<float> chi2_now = edgeChi2(graph_);
   for (std::size_t k = 0; k < graph_.numEdges(); ++k) {
     const Edge& e = *graph_.edges()[k];
@@ -105,7 +106,8 @@ std::string Scene::html() {
     if (e.robustKernel() && w < options_.downweight_below) d.eflag[k] |= kFlagDownweighted;
     if (graph_.numEdges() <= options_.max_error_edges) {
       d.edim.push_back(static_cast<std::uint8_t>(std::min(e.dimension(), 255)));
-      for (int r = 0; r < d.edim.back(); ++r) d.eerr.push_back(static_cast<float>(e.errorData()[r]));
+      for (int r = 0; r < d.edim.back(); ++r)
+        d.eerr.push_back(static_cast<float>(e.errorData()[r]));
     }
   }
   addRejectedArrays(d);
@@ -114,15 +116,16 @@ std::string Scene::html() {
   std::string extra = covarianceJson(d);
   extra += ",\"summary\":[";
   for (std::size_t i = 0; i < summary_.size(); ++i) {
-    extra += (i ? "[" : "[") + jsonString(summary_[i].first) + "," + jsonString(summary_[i].second) +
-             (i + 1 < summary_.size() ? "]," : "]");
+    extra += (i ? "[" : "[") + jsonString(summary_[i].first) + "," +
+             jsonString(summary_[i].second) + (i + 1 < summary_.size() ? "]," : "]");
   }
   extra += "]";
   const std::string title = options_.title.empty() ? std::string("graph") : options_.title;
   std::string page;
   page.reserve(1 << 16);
   page += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>";
-  for (const char c : title) page += c == '<' ? std::string("&lt;") : c == '&' ? std::string("&amp;") : std::string(1, c);
+  for (const char c : title)
+    page += c == '<' ? std::string("&lt;") : c == '&' ? std::string("&amp;") : std::string(1, c);
   page += " - graphslam view</title>\n<style>\n";
   page += kViewerStyle;
   page += "</style></head>\n<body>\n<script type=\"application/json\" id=\"graph-data\">";

@@ -38,7 +38,8 @@ Eigen::MatrixXd positionAxes(const Eigen::MatrixXd& cov, int dim, const std::str
                              const std::vector<double>& x) {
   Eigen::MatrixXd c = cov.topLeftCorner(dim, dim);
   if (tag == "VERTEX_SE3:QUAT" && x.size() >= 7) {
-    const Eigen::Matrix3d r = Eigen::Quaterniond(x[6], x[3], x[4], x[5]).normalized().toRotationMatrix();
+    const Eigen::Matrix3d r =
+        Eigen::Quaterniond(x[6], x[3], x[4], x[5]).normalized().toRotationMatrix();
     c = r * c * r.transpose();
   }
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (c + c.transpose()));
@@ -61,8 +62,8 @@ void Scene::addRejectedArrays(Data& d) const {
     std::vector<std::uint32_t> idx;
     bool point = false;
     for (VertexId id : r.ids) {
-      idx.push_back(static_cast<std::uint32_t>(
-          std::lower_bound(d.vid.begin(), d.vid.end(), id) - d.vid.begin()));
+      idx.push_back(static_cast<std::uint32_t>(std::lower_bound(d.vid.begin(), d.vid.end(), id) -
+                                               d.vid.begin()));
       point = point || d.tag_kinds[d.vtag[idx.back()]] == VertexKind::kPoint;
     }
     const auto k = static_cast<std::uint32_t>(d.ea.size());
@@ -124,7 +125,8 @@ void Scene::addTruth(Data& d) const {
   for (std::size_t i = 0; i < d.vid.size(); ++i) {
     const auto t = truth_.find(d.vid[i]);
     if (t != truth_.end()) {
-      for (std::size_t c = 0; c < dim; ++c) d.truth_pos[i * dim + c] = static_cast<float>(t->second(c));
+      for (std::size_t c = 0; c < dim; ++c)
+        d.truth_pos[i * dim + c] = static_cast<float>(t->second(c));
     }
     const auto a = ape_.find(d.vid[i]);
     if (a != ape_.end()) d.ape[i] = static_cast<float>(a->second);
@@ -140,8 +142,8 @@ std::string Scene::covarianceJson(const Data& d) const {
     v.getEstimateData(x.data());
     if (block.rows() < d.dim || block.cols() < d.dim) continue;
     const Eigen::MatrixXd axes = positionAxes(block, d.dim, vertexTag(types_, v), x);
-    const auto idx = static_cast<std::size_t>(
-        std::lower_bound(d.vid.begin(), d.vid.end(), id) - d.vid.begin());
+    const auto idx =
+        static_cast<std::size_t>(std::lower_bound(d.vid.begin(), d.vid.end(), id) - d.vid.begin());
     extra += std::string(n++ ? "," : "") + "{\"v\":" + std::to_string(idx) + ",\"axes\":[";
     for (int c = 0; c < d.dim; ++c) {
       for (int r = 0; r < d.dim; ++r) extra += (c || r ? "," : "") + numberText(axes(r, c));
