@@ -6,6 +6,12 @@
   GV.KIND_NAMES = KIND_NAMES;
   GV.VERTEX_KIND_NAMES = VERTEX_KIND_NAMES;
   GV.FLAG = { inactive: 1, downweighted: 2, robust: 4, removed: 8 };
+  // The arrays of the data and their types (view/src/page_json.cpp writes them).
+  const ARRAYS = {
+    vid: Int32Array, vtag: Uint8Array, vfixed: Uint8Array, vline: Int32Array,
+    ea: Uint32Array, eb: Uint32Array, ekind: Uint8Array, etag: Uint8Array, eflag: Uint8Array,
+    eweight: Float32Array, eline: Int32Array, xedge: Uint32Array, xvertex: Uint32Array,
+  };
 
   /** Bounding box (min, max, per axis) of positions `pos` (dim per vertex), NaN skipped. */
   function bounds(pos, dim) {
@@ -40,19 +46,7 @@
       hasInitial: raw.hasInitial,
       covariances: raw.covariances || [],
     };
-    d.vid = GV.decode(raw.vid, Int32Array);
-    d.vtag = GV.decode(raw.vtag, Uint8Array);
-    d.vfixed = GV.decode(raw.vfixed, Uint8Array);
-    d.vline = GV.decode(raw.vline, Int32Array);
-    d.ea = GV.decode(raw.ea, Uint32Array);
-    d.eb = GV.decode(raw.eb, Uint32Array);
-    d.ekind = GV.decode(raw.ekind, Uint8Array);
-    d.etag = GV.decode(raw.etag, Uint8Array);
-    d.eflag = GV.decode(raw.eflag, Uint8Array);
-    d.eweight = GV.decode(raw.eweight, Float32Array);
-    d.eline = GV.decode(raw.eline, Int32Array);
-    d.xedge = GV.decode(raw.xedge, Uint32Array);
-    d.xvertex = GV.decode(raw.xvertex, Uint32Array);
+    for (const name in ARRAYS) d[name] = GV.decode(raw[name], ARRAYS[name]);
     if (raw.edim) {
       d.edim = GV.decode(raw.edim, Uint8Array);
       d.eerr = GV.decode(raw.eerr, Float32Array);
