@@ -156,6 +156,23 @@ def interact(b, args):
     info = b.evaluate("window.graphslamView.info()")
     expect(after != shot and info.startswith("vertex ") and "line:" in info,
            "clicking a vertex selects it (%s)" % info.split("\n")[0])
+    if args.ape:
+        return
+    b.evaluate("document.getElementById('layer-vertices').click()")
+    edge = b.evaluate("""(() => { const v = window.graphslamView, d = v.data, st = v.state;
+      const c = document.getElementById('view').getBoundingClientRect();
+      for (let k = 0; k < d.ne; k++) { if (!GV.edgeVisible(d, st, k)) continue;
+        const a = v.screenOf(d.ea[k]), b = v.screenOf(d.eb[k]);
+        const x = 0.5 * (a[0] + b[0]), y = 0.5 * (a[1] + b[1]);
+        if (Math.hypot(b[0] - a[0], b[1] - a[1]) > 4 && x > 20 && y > 20 && x < c.width - 20 &&
+            y < c.height - 20) return [c.left + x, c.top + y]; } return null; })()""")
+    expect(edge is not None, "an edge is on screen")
+    for kind in ("mousePressed", "mouseReleased"):
+        b.call("Input.dispatchMouseEvent", {"type": kind, "x": edge[0], "y": edge[1],
+                                            "button": "left", "clickCount": 1})
+    info = b.evaluate("window.graphslamView.info()")
+    expect(info.startswith("edge ") and "chi2: " in info and "line: " in info,
+           "clicking an edge shows its tag, chi2 and line (%s)" % " / ".join(info.split("\n")[:3]))
 
 
 def main():
