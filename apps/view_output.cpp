@@ -116,6 +116,27 @@ void addCovariances(view::Scene& scene, Graph& graph, const Registries& reg,
   for (VertexId id : ids) scene.addCovariance(id, marginals.block(id));
 }
 
+/// The ground truth of a .npz file (positions of poses and landmarks) and each vertex's
+/// position error, for the page.
+void addPointTruth(view::Scene& scene, const Graph& graph, const io::PointGroundTruth& truth) {
+  if (truth.empty()) return;
+  std::map<VertexId, Eigen::Vector3d> where;
+  std::map<VertexId, double> error;
+  auto add = [&](const std::vector<VertexId>& ids, const std::vector<Eigen::Vector2d>& at) {
+    for (std::size_t i = 0; i < ids.size() && i < at.size(); ++i) {
+      const Vertex* v = graph.vertex(ids[i]);
+      if (!v || v->estimateDataDimension() < 2) continue;
+      std::vector<double> x(static_cast<std::size_t>(v->estimateDataDimension()));
+      v->getEstimateData(x.data());
+      where[ids[i]] = Eigen::Vector3d(at[i].x(), at[i].y(), 0.0);
+      error[ids[i]] = (Eigen::Vector2d(x[0], x[1]) - at[i]).norm();
+    }
+  };
+  add(truth.pose_ids, truth.poses);
+  add(truth.landmark_ids, truth.landmarks);
+  scene.setGroundTruth(where, error);
+}
+
 void ViewRecorder::write(const std::string& staged, Graph& graph, const Registries& reg,
                          const io::GraphFile& in,
                          const std::vector<std::pair<std::string, std::string>>& summary,
@@ -143,6 +164,7 @@ void ViewRecorder::write(const std::string& staged, Graph& graph, const Registri
   for (auto& f : frames_) scene.addIteration(f);
   for (const auto& [k, v] : summary) scene.addSummary(k, v);
   addCovariances(scene, graph, reg, covariance_ids, "view-covariance");
+  addPointTruth(scene, graph, in.ground_truth);
   scene.writePage(staged);
 }
 
