@@ -170,5 +170,6 @@ int cmdCalibrate(const std::vector<std::string>& args);
 int cmdListTypes(const std::vector<std::string>& args);
 int cmdListSolvers(const std::vector<std::string>& args);
 int cmdIncremental(const std::vector<std::string>& args);
+int cmdView(const std::vector<std::string>& args);
 
 }  // namespace graphslam::apps

@@ -20,6 +20,7 @@
 #include "graphslam/support/logging.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "view_output.h"
 
 namespace graphslam::apps {
 
@@ -232,6 +233,7 @@ void declareOptions(po::options_description& desc) {
   desc.add_options()
     ("help,h", "show this help")
     ("list-experiments", "list the experiment presets and exit")
+    ("view", po::value<std::string>(), "also write a self-contained web page of the final graph here (docs/VIEW.md)")
     ("experiment", po::value<std::string>(), "coursework experiment preset (see --list-experiments)")
     ("scenario", po::value<std::string>(), "scenario: built-in name, name under --data, or a directory")
     ("data", po::value<std::string>(), "folder of scenario directories (default: $GRAPHSLAM_DATA or the "
@@ -503,6 +505,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   // Created before the run, so a long run does not end in an unwritable place; the results
   // are staged in it and put in place together when all are written.
   OutputFolder outputs(out_dir);
+  const std::string view_page = given(vm, "view") ? vm["view"].as<std::string>() : std::string();
+  OutputSet view_output({view_page}, {});
   Simulator simulator(scenario, setup.sim);
   DriveBotSlamSystem system(reg.solvers, setup.slam);
   const char* optimizer = system.usesIncremental() ? "incremental" : "batch";
@@ -523,7 +527,14 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     ::setenv("GRAPHSLAM_NOT_WRITTEN_LIST", outputs.notWrittenList().c_str(), 1);
     runPlotScript("plot_drivebot.py", args);
   }
+  if (!view_page.empty()) {
+    writeGraphView(view_output.staged(view_page), system.graph(), reg,
+                   scenario.name + " (DriveBot)",
+                   {{"optimizer", optimizer}, {"scenario", scenario.name}});
+  }
   outputs.commit();
+  view_output.commit();
+  if (!view_page.empty()) std::printf("wrote %s\n", view_page.c_str());
   std::printf(
       "wrote:         %s/{steps.csv, landmarks.csv, scenario.csv, graph_stats.csv, summary.csv%s, "
       "final.g2o}\n",

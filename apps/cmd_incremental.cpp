@@ -19,6 +19,7 @@
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "view_output.h"
 #include "window_output.h"
 
 namespace graphslam::apps {
@@ -53,13 +54,12 @@ constexpr const char* kIncrementalUsage =
 
 /// The options of graphslam incremental.
 struct IncrementalCliOptions {
-  std::string input, output, stats, plot;
+  std::string input, output, stats, plot, view;
   std::vector<std::string> plugins;
   int check_every = 0;
   std::string marginalised_out;
-  bool quiet = false;
-  bool batch = true;  ///< --no-batch: no batch optimum for scale  ///< -q: the summary only,
-                      ///< without the input's description
+  bool quiet = false;  ///< -q: the summary only, without the input's description
+  bool batch = true;  ///< --no-batch: no batch optimum for scale
   incremental::ReplayOptions replay;
 };
 
@@ -74,6 +74,8 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "passes (and whether their limit was reached), relinearised vertices and edges, "
       "eliminated columns, full rebuild, chi2 (and the checks')")(
       "plot", po::value(&o.plot), "draw the per-step time (log scale) and chi2 into this PNG")(
+      "view", po::value(&o.view),
+      "write a self-contained web page of the replayed graph here (docs/VIEW.md)")(
       "relinearize-threshold", doubleValue(&opt.relinearize_threshold, opt.relinearize_threshold),
       "relinearise a vertex when an entry of its step from its linearisation point exceeds "
       "this (metres, radians)")(
@@ -337,7 +339,7 @@ int cmdIncremental(const std::vector<std::string>& args) {
   oneBlasThreadUnlessSet();
   Registries reg;
   loadRegistries(reg, o.plugins);
-  OutputSet outputs({o.output, o.stats, o.plot}, {o.input});
+  OutputSet outputs({o.output, o.stats, o.plot, o.view}, {o.input});
   if (!o.plot.empty() && findPlotPython().empty()) {
     throw UsageError(
         "--plot needs Python 3 with matplotlib, and none was found (tried "
@@ -381,6 +383,15 @@ int cmdIncremental(const std::vector<std::string>& args) {
         std::printf("wrote %s\n", o.output.c_str());
       }
       if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);
+      if (!o.view.empty()) {
+        writeGraphView(outputs.staged(o.view), replayed, reg,
+                       std::filesystem::path(o.input).filename().string() + " (incremental)",
+                       {{"replay", std::to_string(r.steps.size()) + " steps"},
+                        {"final chi2", support::formatDouble(r.final_chi2)},
+                        {"batch optimum", support::formatDouble(batch.final_cost)}},
+                       in.vertex_lines, in.path);
+        std::printf("wrote %s\n", o.view.c_str());
+      }
       outputs.commit();
       return kExitOk;
     });

@@ -24,6 +24,7 @@
 #include "input.h"
 #include "output_set.h"
 #include "plotting.h"
+#include "view_output.h"
 
 namespace graphslam::apps {
 
@@ -132,7 +133,7 @@ std::string jsonNumber(double x) { return std::isfinite(x) ? support::formatDoub
 struct EvalOptions {
   std::string metric, ref_path, est_path, relation = "trans_part", ref_format = "auto",
                                           est_format = "auto";
-  std::string save, plot_dir, unit = "f";
+  std::string save, plot_dir, unit = "f", view;
   std::vector<std::string> plot_with;  // more trajectories for the trajectory plot
   std::vector<std::string> plugins;    // types of a graph input's custom vertices
   double t_max_diff = 0.01, t_offset = 0.0, delta = 1.0;
@@ -162,6 +163,9 @@ void declareEvalOptions(po::options_description& desc, EvalOptions& o) {
       "est-format", po::value(&o.est_format)->default_value("auto"), "auto, tum, kitti or g2o")(
       "save-results", po::value(&o.save), "write the result as .json or .csv")(
       "plot", po::value(&o.plot_dir), "write PNG plots into this directory (it must exist)")(
+      "view", po::value(&o.view),
+      "ape: write a self-contained web page of the aligned estimate coloured by its error per "
+      "pose over the reference here (docs/VIEW.md)")(
       "plot-with", po::value(&o.plot_with)->composing(),
       "also draw this trajectory (all its poses, as read) in the trajectory plot (repeatable)")(
       "plugin", po::value(&o.plugins)->composing(),
@@ -189,6 +193,7 @@ bool parseEvalOptions(const std::vector<std::string>& args, EvalOptions& o) {
   if (o.metric != "ape" && o.metric != "rpe") throw UsageError("the metric must be ape or rpe");
   if (o.ref_path.empty() || o.est_path.empty()) throw UsageError("eval needs REF and EST");
   if (!o.plot_with.empty() && o.plot_dir.empty()) throw UsageError("--plot-with needs --plot DIR");
+  if (!o.view.empty() && o.metric != "ape") throw UsageError("--view draws the APE: use eval ape");
   return true;
 }
 
@@ -352,7 +357,7 @@ int cmdEval(const std::vector<std::string>& args) {
   if (!o.save.empty() && !endsWith(o.save, ".json") && !endsWith(o.save, ".csv")) {
     throw UsageError("--save-results must end in .json or .csv");
   }
-  OutputSet outputs({o.save}, {o.ref_path, o.est_path});
+  OutputSet outputs({o.save, o.view}, {o.ref_path, o.est_path});
   if (!o.plot_dir.empty()) {
     std::error_code ec;
     if (!std::filesystem::is_directory(o.plot_dir, ec)) {
@@ -404,6 +409,15 @@ int cmdEval(const std::vector<std::string>& args) {
     if (!o.save.empty()) saveResults(outputs.staged(o.save), o.metric, title, mode, e);
     if (!o.plot_dir.empty()) {
       plotEval(o, title + " " + mode, unitOf(relationTitle(rel)), e, est, extra);
+    }
+    if (!o.view.empty()) {
+      writeTrajectoryView(outputs.staged(o.view), e.ref_used, e.est_used, e.errors, reg,
+                          std::filesystem::path(o.est_path).filename().string(),
+                          {{"metric", title},
+                           {"alignment", mode},
+                           {"rmse", support::formatDouble(e.stats.rmse)},
+                           {"max", support::formatDouble(e.stats.max)}});
+      std::printf("wrote %s\n", o.view.c_str());
     }
     outputs.commit();
     return kExitOk;

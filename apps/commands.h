@@ -20,6 +20,7 @@ inline constexpr const char* kMainUsage =
     "  solvers        every linear solver and ordering on a graph's system: times, fill, accuracy\n"
     "  add-outliers   append seeded random wrong loop closures to a 2D pose graph\n"
     "  incremental    replay a graph pose by pose through the incremental optimizer, timed\n"
+    "  view           write one self-contained web page to explore a 2D or 3D graph\n"
     "  calibrate      measure the factorisation backends and fit the default solver's cost model\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n"
@@ -27,9 +28,9 @@ inline constexpr const char* kMainUsage =
 
 /// The command names of kMainUsage.
 inline constexpr const char* kCommands[] = {
-    "optimize",  "simulate",   "eval",         "deadreckon",   "convert",
-    "info",      "drivebot",   "solvers",      "add-outliers", "incremental",
-    "calibrate", "list-types", "list-solvers", "list-kernels"};
+    "optimize", "simulate",  "eval",       "deadreckon",   "convert",
+    "info",     "drivebot",  "solvers",    "add-outliers", "incremental",
+    "view",     "calibrate", "list-types", "list-solvers", "list-kernels"};
 
 [[nodiscard]] inline bool isCommand(const char* name) {
   for (const char* c : kCommands) {

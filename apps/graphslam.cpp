@@ -36,6 +36,7 @@
 #include "plotting.h"
 #include "robust_options.h"
 #include "submap_run.h"
+#include "view_output.h"
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -142,7 +143,7 @@ struct OptimizeOptions {
   int iterations = 100;
   int submaps = 0;
   std::vector<std::string> plugins;
-  std::string damping, first_step, init, marginals_file, marginals_tag;
+  std::string damping, first_step, init, marginals_file, marginals_tag, view_page, view_covariance;
   bool quiet = false;
   bool drop_unobservable = false;
   Optimizer::Options options;
@@ -211,6 +212,7 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "graph is refused (exit 2)");
   declareRobustOptions(desc, o.robust);
   declareOutlierOptions(desc, o.outliers);
+  declareViewOptions(desc, o.view_page, o.view_covariance);
 }
 
 /// Parses and checks the options and fills the optimizer's; false after --help.
@@ -261,6 +263,9 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   o.quiet = vm.count("quiet") != 0;
   o.drop_unobservable = vm.count("drop-unobservable") != 0;
   checkOutlierOptions(vm, o.outliers);
+  if (!o.view_covariance.empty() && o.view_page.empty()) {
+    throw UsageError("--view-covariance needs --view PAGE.html");
+  }
   return true;
 }
 
@@ -305,7 +310,7 @@ LoadedInput loadOptimizeInput(const OptimizeOptions& o, const Registries& reg) {
 /// Optimises `graph`, printing a line per iteration (unless quiet) and the summary, and
 /// collecting the lines of --stats in `csv`.
 Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOptions& o,
-                     std::vector<std::string>& csv) {
+                     std::vector<std::string>& csv, ViewRecorder& recorder) {
   const bool quiet = o.quiet;
   o.options.callback = [&csv, quiet](const IterationStats& s) {
     if (!quiet) {
@@ -318,6 +323,7 @@ Summary runOptimizer(Graph& graph, const SolverRegistry& solvers, OptimizeOption
     }
     csv.push_back(csvLine(s));
   };
+  recorder.record(o.options, graph);
   support::setLogLevel(support::LogLevel::kInfo);
   support::setLogSink([](support::LogLevel level, const std::string& msg) {
     std::fprintf(level >= support::LogLevel::kWarning ? stderr : stdout, "%s: %s\n",
@@ -353,7 +359,8 @@ void plotOptimized(const OptimizeOptions& o, const std::string& png, const Summa
 int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& graph,
                          const Registries& reg, const LoadedInput& in, const Summary& summary,
                          const std::vector<std::string>& csv, const outliers::GncResult& gnc,
-                         const std::map<VertexId, Eigen::Vector2d>& initial_positions) {
+                         const std::map<VertexId, Eigen::Vector2d>& initial_positions,
+                         ViewRecorder& recorder, const std::vector<VertexId>& view_ids) {
   return outputs.writeAll([&] {
     if (!o.marginals_file.empty()) {  // first: it is the output that may fail on its own
       const int rc = writeMarginals(graph, reg, outputs.staged(o.marginals_file), o.marginals_tag,
@@ -376,6 +383,11 @@ int writeOptimizeOutputs(OutputSet& outputs, const OptimizeOptions& o, Graph& gr
     if (!o.plot.empty()) {
       plotOptimized(o, outputs.staged(o.plot), summary, graph, initial_positions, in.ground_truth);
     }
+    if (recorder.on()) {
+      recorder.write(outputs.staged(o.view_page), graph, reg, in, optimizerSummaryLines(summary),
+                     &gnc, view_ids);
+      std::cout << "wrote " << o.view_page << "\n";
+    }
     outputs.commit();
     return kExitOk;
   });
@@ -389,8 +401,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   checkRegistered(o, reg);
   checkRobustOptions(o.robust, reg);
   // Every output is checked before the work starts and written all or nothing.
-  OutputSet outputs({o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file},
-                    {o.input});
+  OutputSet outputs(
+      {o.output, o.stats_file, o.plot, o.marginals_file, o.outliers.outliers_file, o.view_page},
+      {o.input});
+  ViewRecorder recorder(o.view_page);
   if (!o.plot.empty() && findPlotPython().empty()) {
     throw UsageError(
         "--plot needs Python 3 with matplotlib, and none was found (tried "
@@ -398,6 +412,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
   }
   LoadedInput in = loadOptimizeInput(o, reg);
   Graph& graph = in.graph;
+  const std::vector<VertexId> view_ids = o.view_covariance.empty()
+                                             ? std::vector<VertexId>{}
+                                             : parseIdList(o.view_covariance, "view-covariance");
+  checkVertexIds(graph, view_ids, "view-covariance");
   if (!checkFiniteTerms(in, o.output)) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
@@ -413,6 +431,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     exitWithoutFreeing(kExitBadInput);
   }
   outliers::GncResult gnc;
+  if (o.outliers.reject) recorder.captureEdgeTags(graph, reg.types);
   if (o.outliers.reject &&
       !rejectOutliersForOptimize(graph, reg.solvers, o.options, o.outliers, o.quiet, gnc)) {
     outputs.abort();
@@ -425,9 +444,10 @@ int cmdOptimize(const std::vector<std::string>& args) {
 
   const auto objective = applyObjective(o.objective, graph);
   std::vector<std::string> csv;
+  recorder.captureInitial(graph, "start (--init " + o.init + ")");
   const Summary summary =
       o.submaps > 0 ? runSubmapSolver(graph, reg.solvers, o.submaps, o.options, o.quiet, csv)
-                    : runOptimizer(graph, reg.solvers, o, csv);
+                    : runOptimizer(graph, reg.solvers, o, csv, recorder);
   finishObjective(objective.get(), graph);
   if (!in.ground_truth.empty()) {
     const auto final_errors = eval::positionErrors(graph, in.ground_truth);
@@ -454,8 +474,8 @@ int cmdOptimize(const std::vector<std::string>& args) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
-  exitWithoutFreeing(
-      writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc, initial_positions));
+  exitWithoutFreeing(writeOptimizeOutputs(outputs, o, graph, reg, in, summary, csv, gnc,
+                                          initial_positions, recorder, view_ids));
 }
 
 }  // namespace
@@ -488,6 +508,7 @@ extern "C" __attribute__((visibility("default"))) int graphslam_tool_run(int arg
     if (command == "solvers") return cmdSolvers(args);
     if (command == "add-outliers") return cmdAddOutliers(args);
     if (command == "incremental") return cmdIncremental(args);
+    if (command == "view") return cmdView(args);
     if (command == "calibrate") return cmdCalibrate(args);
     std::cerr << "graphslam: unknown command '" << printable(command) << "'\n\n" << kMainUsage;
     return kExitBadInput;

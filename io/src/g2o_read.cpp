@@ -81,6 +81,10 @@ class Reader {
       }
       v->setFixed(true);
     }
+    result_.vertex_lines.reserve(vertex_lines_.size());
+    for (const VertexLine& v : vertex_lines_) {
+      if (!v.created_by) result_.vertex_lines.emplace_back(v.id, static_cast<std::size_t>(v.line));
+    }
     return std::move(result_);
   }
 

@@ -42,6 +42,7 @@ GraphFile fromLoadResult(LoadResult loaded, const std::string& name, const std::
   out.format = format;
   out.graph = std::move(loaded.graph);
   out.edge_lines = std::move(loaded.edge_lines);
+  out.vertex_lines = std::move(loaded.vertex_lines);
   out.created_vertices = loaded.created_vertices;
   out.repaired_information = loaded.repaired_information;
   return out;

@@ -93,6 +93,24 @@ TEST(Io_EdgesOnly, VerticesAreCreatedFromTheEdgesOnRequest) {
   ASSERT_TRUE(t.ok());
   EXPECT_EQ(t.created_vertices, 4u);
   EXPECT_EQ(t.edge_lines, r.edge_lines);
+  EXPECT_TRUE(r.vertex_lines.empty());  // no line defines a vertex
+}
+
+TEST(Io_EdgesOnly, VertexLinesAreRecordedForTheLinesThatDefineThem) {
+  const TypeRegistry types = slam2d();
+  const std::string text = "# two poses\nVERTEX_SE2 4 0 0 0\n\nVERTEX_SE2 2 1 0 0\nEDGE_SE2 4 2" +
+                           kOdometry + "EDGE_SE2 2 9" + kOdometry;
+  for (int threads : {1, 3}) {
+    std::istringstream in(text);
+    io::LoadOptions options;
+    options.create_missing_vertices = true;  // vertex 9 has no line
+    options.threads = threads;
+    options.chunk_bytes = 7;
+    const auto r = io::readG2o(in, "f.g2o", types, options);
+    ASSERT_TRUE(r.ok());
+    using Line = std::pair<VertexId, std::size_t>;
+    EXPECT_EQ(r.vertex_lines, (std::vector<Line>{{4, 2}, {2, 4}})) << threads;
+  }
 }
 
 TEST(Io_EdgesOnly, VertexDefinedAfterAnEdgeIsStillAnError) {

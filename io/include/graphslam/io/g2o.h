@@ -3,6 +3,7 @@
 
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graphslam/core/graph.h"
@@ -71,6 +72,9 @@ struct LoadResult {
   /// in file order for every thread count), so `edge_lines[k]` is the line of
   /// `graph.edges()[k]` as loaded.
   std::vector<std::size_t> edge_lines;
+  /// The 1-based file line of each vertex a line defines (id, line), in file order; filled
+  /// when the load finishes (vertices created from edges have none).
+  std::vector<std::pair<VertexId, std::size_t>> vertex_lines;
   /// Edges whose information matrix was not positive definite and was repaired
   /// (LoadOptions::information), or refused.
   std::size_t repaired_information = 0;

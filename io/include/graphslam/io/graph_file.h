@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graphslam/core/graph.h"
@@ -30,6 +31,9 @@ struct GraphFile {
   /// The file line of each edge, in graph edge order (.g2o and formats translated to .g2o
   /// text); empty for other formats.
   std::vector<std::size_t> edge_lines;
+  /// The file line of each vertex a line defines (id, line), in file order (.g2o and
+  /// formats translated to .g2o text); empty for other formats.
+  std::vector<std::pair<VertexId, std::size_t>> vertex_lines;
   /// The file's estimates are a deliberate initial guess that a default initialisation
   /// must keep (.npz: the homework's); false for pose-graph files.
   bool keep_initial_guess = false;
