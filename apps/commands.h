@@ -21,6 +21,7 @@ inline constexpr const char* kMainUsage =
     "  add-outliers   append seeded random wrong loop closures to a 2D pose graph\n"
     "  incremental    replay a graph pose by pose through the incremental optimizer, timed\n"
     "  calibrate      measure the factorisation backends and fit the default solver's cost model\n"
+    "  certify        prove a pose graph's SE-Sync optimum global (certificate, staircase)\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n"
     "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
@@ -29,7 +30,7 @@ inline constexpr const char* kMainUsage =
 inline constexpr const char* kCommands[] = {
     "optimize",  "simulate",   "eval",         "deadreckon",   "convert",
     "info",      "drivebot",   "solvers",      "add-outliers", "incremental",
-    "calibrate", "list-types", "list-solvers", "list-kernels"};
+    "calibrate", "certify",    "list-types",   "list-solvers", "list-kernels"};
 
 [[nodiscard]] inline bool isCommand(const char* name) {
   for (const char* c : kCommands) {

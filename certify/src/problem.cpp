@@ -116,7 +116,6 @@ Problem::Problem(int d, int num_poses, std::vector<Measurement> measurements)
   p.mtx = p.mxt.transpose();
   const SparseMatrix ltt = m.block(1, 1, n_ - 1, n_ - 1);
   p.ltt.compute(ltt);
-  p.lttm = ltt;
   if (p.ltt.info() != Eigen::Success) {
     throw InputError("certify: the translation Laplacian is not positive definite");
   }
@@ -148,18 +147,32 @@ Problem::~Problem() = default;
 Eigen::MatrixXd Problem::applyQ(const Eigen::MatrixXd& x) const {
   const Impl& p = *impl_;
   const Eigen::MatrixXd tx = p.mtx * x;
-  Eigen::MatrixXd w = p.ltt.solve(tx);
-  // One step of iterative refinement: L_tau is ill-conditioned on long chains (its
-  // condition number grows with the square of the graph's diameter).
-  const Eigen::MatrixXd residual = tx - p.lttm * w;
-  w += p.ltt.solve(residual);
+  const Eigen::MatrixXd w = p.ltt.solve(tx);
   Eigen::MatrixXd q = p.mxx * x;
   q.noalias() -= p.mxt * w;
   return q;
 }
 
 double Problem::objective(const Eigen::MatrixXd& x) const {
-  return x.cwiseProduct(applyQ(x)).sum();
+  return poseObjective(x, translations(x));
+}
+
+Eigen::MatrixXd Problem::objectiveAndProduct(const Eigen::MatrixXd& x, double* f) const {
+  // From the residuals at the optimal translations, where tr(X^T Q X) would cancel large
+  // terms: Q X = the rotation rows of M [T; X] (its translation rows vanish at T).
+  const Eigen::MatrixXd t = translations(x);
+  Eigen::MatrixXd qx = Eigen::MatrixXd::Zero(x.rows(), x.cols());
+  double sum = 0.0;
+  for (const Measurement& m : measurements_) {
+    const auto xi = x.middleRows(d_ * m.i, d_);
+    const Eigen::MatrixXd e = x.middleRows(d_ * m.j, d_) - m.rotation.transpose() * xi;
+    const Eigen::RowVectorXd et = t.row(m.j) - t.row(m.i) - m.translation.transpose() * xi;
+    sum += m.kappa * e.squaredNorm() + m.tau * et.squaredNorm();
+    qx.middleRows(d_ * m.j, d_) += m.kappa * e;
+    qx.middleRows(d_ * m.i, d_) -= m.kappa * m.rotation * e + m.tau * m.translation * et;
+  }
+  if (f) *f = sum;
+  return qx;
 }
 
 Eigen::MatrixXd Problem::translations(const Eigen::MatrixXd& x) const {

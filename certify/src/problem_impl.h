@@ -39,7 +39,6 @@ struct Problem::Impl {
   SparseMatrix mxt;  ///< dn x (n - 1): the translations of poses 1..n-1
   SparseMatrix mtx;  ///< its transpose
   /// The grounded translation Laplacian ((n - 1) square) and its factor.
-  SparseMatrix lttm;
   Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ltt;
   /// M' (lower triangle), the pattern of every ShiftedFactor, with every entry of the
   /// rotation rows' diagonal d x d blocks stored.

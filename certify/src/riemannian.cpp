@@ -29,8 +29,7 @@ struct Iterate {
 
   Iterate(const Problem& problem, Eigen::MatrixXd point) : x(std::move(point)) {
     const int d = problem.dimension();
-    egrad = 2.0 * problem.applyQ(x);
-    f = 0.5 * inner(x, egrad);
+    egrad = 2.0 * problem.objectiveAndProduct(x, &f);
     blocks = symmetricBlockProducts(egrad, x, d);
     grad = subtractBlockProducts(egrad, blocks, x, d);
     grad_norm = grad.norm();
@@ -62,7 +61,8 @@ struct InnerResult {
   bool boundary = false;
 };
 
-InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations, double scale) {
+InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations,
+                        double floor) {
   const Eigen::MatrixXd& grad = ops.it.grad;
   InnerResult out{Eigen::MatrixXd::Zero(grad.rows(), grad.cols()),
                   Eigen::MatrixXd::Zero(grad.rows(), grad.cols()), 0, false};
@@ -72,7 +72,8 @@ InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations,
   double d_pd = z_r, e_pd = 0.0, e_pe = 0.0;
   Eigen::MatrixXd dir = -z;
   const double r0 = r.norm();
-  const double target = r0 * std::min(r0 / scale, 0.1);  // superlinear near the optimum
+  // Superlinear near the optimum, but no finer than the outer loop's tolerance needs.
+  const double target = std::max(r0 * std::min(r0, 0.1), floor);
   const double r2 = radius * radius;
   for (int j = 0; j < max_iterations; ++j) {
     out.iterations = j + 1;
@@ -156,7 +157,7 @@ TrustRegionResult trustRegion(const Problem& problem, const Eigen::MatrixXd& x0,
   for (int k = 0; k < options.max_iterations && it.grad_norm > gradient_tolerance; ++k) {
     const Operators ops{problem, preconditioner, it};
     if (radius < 0.0) radius = std::sqrt(std::max(inner(ops.precondition(it.grad), it.grad), 0.0));
-    const InnerResult step = truncatedCG(ops, radius, options.max_inner_iterations, scale);
+    const InnerResult step = truncatedCG(ops, radius, options.max_inner_iterations, 0.5 * gradient_tolerance);
     out.inner_iterations += step.iterations;
     ++out.iterations;
     Iterate trial(problem, retract(it.x, step.eta, d));

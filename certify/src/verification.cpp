@@ -62,7 +62,7 @@ Eigen::VectorXd startVector(Eigen::Index size) {
 }  // namespace
 
 Eigen::MatrixXd lagrangeMultipliers(const Problem& problem, const Eigen::MatrixXd& x) {
-  return symmetricBlockProducts(problem.applyQ(x), x, problem.dimension());
+  return symmetricBlockProducts(problem.objectiveAndProduct(x, nullptr), x, problem.dimension());
 }
 
 EigenResult minimumEigenvalue(const Problem& problem, const Eigen::MatrixXd& x,

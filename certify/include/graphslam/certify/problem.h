@@ -47,8 +47,11 @@ class Problem {
 
   /// Q X.
   [[nodiscard]] Eigen::MatrixXd applyQ(const Eigen::MatrixXd& x) const;
-  /// F(X) = tr(X^T Q X).
+  /// F(X) = tr(X^T Q X), summed over the measurements' residuals at the optimal
+  /// translations (accurate to rounding relative to F, where the trace is not).
   [[nodiscard]] double objective(const Eigen::MatrixXd& x) const;
+  /// Q X and F(X) (into *f when not null), from the residuals as objective().
+  [[nodiscard]] Eigen::MatrixXd objectiveAndProduct(const Eigen::MatrixXd& x, double* f) const;
   /// The translations (n x r) minimising the full objective for the rotations X, the first
   /// pose's at zero.
   [[nodiscard]] Eigen::MatrixXd translations(const Eigen::MatrixXd& x) const;
