@@ -51,10 +51,10 @@ bool isRelativePose(const Edge& e) {
 
 certify::Options parseStart(const std::string& start, int initial_rank, int max_rank) {
   certify::Options options;
-  options.start = parseChoice<certify::Options::Start>(
-      "start", start,
-      {{"chordal", certify::Options::Start::kChordal},
-       {"estimates", certify::Options::Start::kEstimates}});
+  options.start =
+      parseChoice<certify::Options::Start>("start", start,
+                                           {{"chordal", certify::Options::Start::kChordal},
+                                            {"estimates", certify::Options::Start::kEstimates}});
   if (initial_rank < 2 || max_rank < initial_rank) {
     throw UsageError("--initial-rank must be at least 2 and --max-rank at least --initial-rank");
   }

@@ -253,8 +253,9 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   o.certify = vm.count("certify") != 0;
   checkOutlierOptions(vm, o.outliers);
   if (o.certify && o.outliers.reject) {
-    throw UsageError("--certify and --reject-outliers do not go together (the certificate is "
-                     "of every edge's terms)");
+    throw UsageError(
+        "--certify and --reject-outliers do not go together (the certificate is "
+        "of every edge's terms)");
   }
   return true;
 }

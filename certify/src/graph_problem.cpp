@@ -7,11 +7,11 @@
 #include "graphslam/certify/problem.h"
 #include "graphslam/diagnostics/information.h"
 #include "graphslam/support/error.h"
-#include "problem_impl.h"
 #include "graphslam/types_slam2d/edge_se2.h"
 #include "graphslam/types_slam2d/vertex_se2.h"
 #include "graphslam/types_slam3d/edges.h"
 #include "graphslam/types_slam3d/vertex_se3.h"
+#include "problem_impl.h"
 
 namespace graphslam::certify {
 
@@ -39,9 +39,9 @@ int checkVertices(const Graph& graph) {
                        "vertices have no place in SE-Sync's relaxation)");
     }
     if (d != 0 && dim != d) {
-      throw InputError("certify: vertex " + std::to_string(first) + " is a " +
-                       std::to_string(d) + "D pose and vertex " + std::to_string(id) + " a " +
-                       std::to_string(dim) + "D one; 2D and 3D poses together are not supported");
+      throw InputError("certify: vertex " + std::to_string(first) + " is a " + std::to_string(d) +
+                       "D pose and vertex " + std::to_string(id) + " a " + std::to_string(dim) +
+                       "D one; 2D and 3D poses together are not supported");
     }
     if (d == 0) first = id;
     d = dim;
@@ -82,8 +82,7 @@ Measurement measurementOf(const Edge& e, int d, const std::map<VertexId, int>& i
     m.kappa = inverseTraceWeight(se3->information().bottomRightCorner<3, 3>()) / 2.0;
   } else {
     throw InputError("certify supports pose graphs only: " + edgeName(e) + " is a " +
-                     typeName(typeid(e)) + ", not an " +
-                     (d == 2 ? "EDGE_SE2" : "EDGE_SE3:QUAT") +
+                     typeName(typeid(e)) + ", not an " + (d == 2 ? "EDGE_SE2" : "EDGE_SE3:QUAT") +
                      " relative-pose measurement (priors and landmark observations are not "
                      "part of SE-Sync's problem)");
   }

@@ -16,8 +16,8 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 
 /// Checks a measurement's shape and weights; throws InputError naming it.
 void checkMeasurement(const Measurement& m, std::size_t k, int d, int n) {
-  const std::string which = "measurement " + std::to_string(k) + " (poses " +
-                            std::to_string(m.i) + ", " + std::to_string(m.j) + ")";
+  const std::string which = "measurement " + std::to_string(k) + " (poses " + std::to_string(m.i) +
+                            ", " + std::to_string(m.j) + ")";
   if (m.i < 0 || m.j < 0 || m.i >= n || m.j >= n || m.i == m.j) {
     throw InputError(which + ": pose indices must be distinct and in [0, " + std::to_string(n) +
                      ")");
@@ -92,10 +92,14 @@ int unconnectedPose(const std::vector<Measurement>& ms, int n, int* components) 
 }
 
 Problem::Problem(int d, int num_poses, std::vector<Measurement> measurements)
-    : d_(d), n_(num_poses), measurements_(std::move(measurements)), impl_(std::make_unique<Impl>()) {
+    : d_(d),
+      n_(num_poses),
+      measurements_(std::move(measurements)),
+      impl_(std::make_unique<Impl>()) {
   if (d != 2 && d != 3) throw InputError("certify: the pose dimension must be 2 or 3");
   if (n_ < 2) throw InputError("certify: the graph needs at least two poses");
-  for (std::size_t k = 0; k < measurements_.size(); ++k) checkMeasurement(measurements_[k], k, d, n_);
+  for (std::size_t k = 0; k < measurements_.size(); ++k)
+    checkMeasurement(measurements_[k], k, d, n_);
   int components = 1;
   if (const int other = unconnectedPose(measurements_, n_, &components); other >= 0) {
     throw InputError("the poses are not connected: " + std::to_string(components) +
@@ -188,8 +192,7 @@ double Problem::poseObjective(const Eigen::MatrixXd& x, const Eigen::MatrixXd& t
   for (const Measurement& m : measurements_) {
     const Eigen::MatrixXd ri = x.middleRows(d_ * m.i, d_).transpose();
     const Eigen::MatrixXd rj = x.middleRows(d_ * m.j, d_).transpose();
-    const Eigen::VectorXd dt =
-        t.row(m.j).transpose() - t.row(m.i).transpose() - ri * m.translation;
+    const Eigen::VectorXd dt = t.row(m.j).transpose() - t.row(m.i).transpose() - ri * m.translation;
     f += m.kappa * (rj - ri * m.rotation).squaredNorm() + m.tau * dt.squaredNorm();
   }
   return f;

@@ -13,9 +13,7 @@ namespace {
 /// A d x d matrix (d <= 3) without heap allocation.
 using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
 
-double inner(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  return a.cwiseProduct(b).sum();
-}
+double inner(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return a.cwiseProduct(b).sum(); }
 
 /// The functions of one iterate: F, the Euclidean gradient 2 Q X, sym(G_i X_i^T) and the
 /// Riemannian gradient.
@@ -61,8 +59,7 @@ struct InnerResult {
   bool boundary = false;
 };
 
-InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations,
-                        double floor) {
+InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations, double floor) {
   const Eigen::MatrixXd& grad = ops.it.grad;
   InnerResult out{Eigen::MatrixXd::Zero(grad.rows(), grad.cols()),
                   Eigen::MatrixXd::Zero(grad.rows(), grad.cols()), 0, false};
@@ -157,7 +154,8 @@ TrustRegionResult trustRegion(const Problem& problem, const Eigen::MatrixXd& x0,
   for (int k = 0; k < options.max_iterations && it.grad_norm > gradient_tolerance; ++k) {
     const Operators ops{problem, preconditioner, it};
     if (radius < 0.0) radius = std::sqrt(std::max(inner(ops.precondition(it.grad), it.grad), 0.0));
-    const InnerResult step = truncatedCG(ops, radius, options.max_inner_iterations, 0.5 * gradient_tolerance);
+    const InnerResult step =
+        truncatedCG(ops, radius, options.max_inner_iterations, 0.5 * gradient_tolerance);
     out.inner_iterations += step.iterations;
     ++out.iterations;
     Iterate trial(problem, retract(it.x, step.eta, d));

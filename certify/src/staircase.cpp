@@ -64,7 +64,8 @@ Eigen::MatrixXd escape(const Problem& problem, const Eigen::MatrixXd& x, double 
 
 Eigen::MatrixXd lift(const Eigen::MatrixXd& x, int rank) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(x.rows(), rank);
-  out.leftCols(std::min<Eigen::Index>(rank, x.cols())) = x.leftCols(std::min<Eigen::Index>(rank, x.cols()));
+  out.leftCols(std::min<Eigen::Index>(rank, x.cols())) =
+      x.leftCols(std::min<Eigen::Index>(rank, x.cols()));
   return out;
 }
 

@@ -4,7 +4,6 @@
 #include <Spectra/SymEigsSolver.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <cmath>
 #include <random>
 #include <string>
@@ -93,13 +92,14 @@ EigenResult minimumEigenvalue(const Problem& problem, const Eigen::MatrixXd& x,
                options.eigen_tolerance);
   out.operations = static_cast<int>(eigs.num_operations());
   if (eigs.info() != Spectra::CompInfo::Successful || eigs.eigenvalues().size() == 0) {
-    out.message = "Lanczos did not converge in " + std::to_string(options.eigen_max_iterations) +
-                  " restarts";
+    out.message =
+        "Lanczos did not converge in " + std::to_string(options.eigen_max_iterations) + " restarts";
     return out;
   }
   out.lambda_min = 1.0 / eigs.eigenvalues()[0] - sigma;
   out.vector = eigs.eigenvectors(1).col(0).normalized();
-  out.residual = (applyCertificate(problem, lambda, out.vector) - out.lambda_min * out.vector).norm();
+  out.residual =
+      (applyCertificate(problem, lambda, out.vector) - out.lambda_min * out.vector).norm();
   out.converged = out.residual <= options.eigen_residual_tolerance * problem.scale();
   if (!out.converged) out.message = "the eigenpair's residual is above the tolerance";
   return out;

@@ -20,8 +20,8 @@ inline Graph manhattan2d(int poses, std::uint32_t seed, double sigma_theta = 0.0
 }
 
 /// A simulated 3D pose graph (sphere or grid; odometry estimates).
-inline Graph poseGraph3d(simulation::PoseGraph3dOptions::Shape shape, int poses,
-                         std::uint32_t seed, double sigma_rotation = 0.01) {
+inline Graph poseGraph3d(simulation::PoseGraph3dOptions::Shape shape, int poses, std::uint32_t seed,
+                         double sigma_rotation = 0.01) {
   simulation::PoseGraph3dOptions o;
   o.shape = shape;
   o.num_poses = poses;

@@ -120,7 +120,8 @@ TEST(CertifyEigen, ANonConvergedEigensolverIsNeverCertified) {
 TEST(CertifyStaircase, CertifiesSmallGraphsAtTheLocalSolversOptimum) {
   for (const bool three_d : {false, true}) {
     Graph g = three_d ? test::poseGraph3d(Shape::kSphere, 200, 11) : test::manhattan2d(300, 11);
-    Graph reference = three_d ? test::poseGraph3d(Shape::kSphere, 200, 11) : test::manhattan2d(300, 11);
+    Graph reference =
+        three_d ? test::poseGraph3d(Shape::kSphere, 200, 11) : test::manhattan2d(300, 11);
     const auto report = certify::certify(g);
     ASSERT_TRUE(report.certified) << report.report();
     EXPECT_GE(report.lambda_min, -report.tolerance);
@@ -195,8 +196,7 @@ TEST(CertifyRefusals, NamesWhatIsNotSupported) {
     Graph g = test::manhattan2d(20, 1);
     g.vertex(0)->setFixed(true);
     g.vertex(3)->setFixed(true);
-    EXPECT_NE(refusal(g).find("vertices 0 and 3 are both fixed"), std::string::npos)
-        << refusal(g);
+    EXPECT_NE(refusal(g).find("vertices 0 and 3 are both fixed"), std::string::npos) << refusal(g);
   }
 }
 

@@ -90,13 +90,13 @@ struct CertificateReport {
   int dimension = 0;
   int poses = 0;
   int measurements = 0;
-  double objective = 0.0;        ///< SE-Sync's f at the rounded poses, F(x)
-  double relaxation = 0.0;       ///< F(Y) at the relaxation's last critical point
-  double dual_bound = 0.0;       ///< tr(Lambda) + dn min(lambda_min, 0) <= f*
-  double suboptimality = 0.0;    ///< (objective - dual_bound) / dual_bound
-  double lambda_min = 0.0;       ///< of the last certificate
-  double residual = 0.0;         ///< of its eigenpair
-  double tolerance = 0.0;        ///< lambda_min must be >= -tolerance
+  double objective = 0.0;      ///< SE-Sync's f at the rounded poses, F(x)
+  double relaxation = 0.0;     ///< F(Y) at the relaxation's last critical point
+  double dual_bound = 0.0;     ///< tr(Lambda) + dn min(lambda_min, 0) <= f*
+  double suboptimality = 0.0;  ///< (objective - dual_bound) / dual_bound
+  double lambda_min = 0.0;     ///< of the last certificate
+  double residual = 0.0;       ///< of its eigenpair
+  double tolerance = 0.0;      ///< lambda_min must be >= -tolerance
   bool eigensolver_converged = false;
   int rank = 0;  ///< the relaxation's rank at the end
   std::vector<StaircaseStep> steps;
