@@ -103,22 +103,43 @@ InnerResult truncatedCG(const Operators& ops, double radius, int max_iterations,
 
 }  // namespace
 
+// Both loop over the columns outermost: X is column-major, so each pass reads a column of
+// every block contiguously (Eigen's products of d x r blocks allocate per block).
 Eigen::MatrixXd symmetricBlockProducts(const Eigen::MatrixXd& a, const Eigen::MatrixXd& x, int d) {
-  const Eigen::Index n = x.rows() / d;
-  Eigen::MatrixXd out(d, x.rows());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Small p = a.middleRows(d * i, d) * x.middleRows(d * i, d).transpose();
-    out.middleCols(d * i, d) = 0.5 * (p + p.transpose());
+  const Eigen::Index rows = x.rows();
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(d, rows);  // A_i X_i^T, block i in columns d i..
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    const double* ak = a.col(k).data();
+    const double* xk = x.col(k).data();
+    for (Eigen::Index base = 0; base < rows; base += d) {
+      for (int r = 0; r < d; ++r) {
+        for (int c = 0; c < d; ++c) p(r, base + c) += ak[base + r] * xk[base + c];
+      }
+    }
+  }
+  Eigen::MatrixXd out(d, rows);
+  for (Eigen::Index base = 0; base < rows; base += d) {
+    for (int r = 0; r < d; ++r) {
+      for (int c = 0; c < d; ++c) out(r, base + c) = 0.5 * (p(r, base + c) + p(c, base + r));
+    }
   }
   return out;
 }
 
 Eigen::MatrixXd subtractBlockProducts(const Eigen::MatrixXd& z, const Eigen::MatrixXd& b,
                                       const Eigen::MatrixXd& x, int d) {
-  const Eigen::Index n = x.rows() / d;
+  const Eigen::Index rows = x.rows();
   Eigen::MatrixXd out = z;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    out.middleRows(d * i, d).noalias() -= b.middleCols(d * i, d) * x.middleRows(d * i, d);
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    double* ok = out.col(k).data();
+    const double* xk = x.col(k).data();
+    for (Eigen::Index base = 0; base < rows; base += d) {
+      for (int r = 0; r < d; ++r) {
+        double sum = 0.0;
+        for (int c = 0; c < d; ++c) sum += b(r, base + c) * xk[base + c];
+        ok[base + r] -= sum;
+      }
+    }
   }
   return out;
 }

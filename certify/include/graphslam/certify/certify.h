@@ -27,7 +27,7 @@ struct Options {
   // Riemannian trust region (truncated conjugate gradients, preconditioned by the sparse
   // Cholesky factor of Q + mu I).
   /// Stop when |grad F| <= gradient_tolerance * scale (relative).
-  double gradient_tolerance = 1e-9;
+  double gradient_tolerance = 1e-7;
   /// Stop when an accepted step decreases F by less than this fraction of F.
   double relative_decrease_tolerance = 1e-14;
   int max_iterations = 500;
