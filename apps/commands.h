@@ -22,15 +22,16 @@ inline constexpr const char* kMainUsage =
     "  incremental    replay a graph pose by pose through the incremental optimizer, timed\n"
     "  view           write one self-contained web page to explore a 2D or 3D graph\n"
     "  calibrate      measure the factorisation backends and fit the default solver's cost model\n"
+    "  certify        prove a pose graph's SE-Sync optimum global (certificate, staircase)\n"
     "  list-types     list the .g2o tags this build knows\n"
     "  list-solvers   list the linear solvers this build knows\n"
     "  list-kernels   list the robust kernels this build knows (optimize --robust-kernel)\n";
 
 /// The command names of kMainUsage.
 inline constexpr const char* kCommands[] = {
-    "optimize", "simulate",  "eval",       "deadreckon",   "convert",
-    "info",     "drivebot",  "solvers",    "add-outliers", "incremental",
-    "view",     "calibrate", "list-types", "list-solvers", "list-kernels"};
+    "optimize",  "simulate", "eval",       "deadreckon",   "convert",
+    "info",      "drivebot", "solvers",    "add-outliers", "incremental",
+    "view",      "calibrate", "certify",   "list-types", "list-solvers", "list-kernels"};
 
 [[nodiscard]] inline bool isCommand(const char* name) {
   for (const char* c : kCommands) {

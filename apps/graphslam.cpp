@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "builtins.h"
+#include "certify_cli.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "graphslam/core/plugin.h"
@@ -62,7 +63,7 @@ constexpr const char* kOptimizeUsage =
     "                          [--reject-outliers [--outliers FILE]] [--drop-unobservable]\n"
     "                          [--objective g2o|chordal] [--information "
     "refuse|nearest-pd|isotropic]\n"
-    "                          [--submaps K]\n"
+    "                          [--submaps K] [--certify]\n"
     "Optimises a graph and prints one line per iteration and a summary; with ground truth\n"
     "(.npz homework files) also the position errors before and after.\n"
     "Without IN, optimises the built-in default graph (a simulated Manhattan world).\n"
@@ -146,6 +147,7 @@ struct OptimizeOptions {
   std::string damping, first_step, init, marginals_file, marginals_tag, view_page, view_covariance;
   bool quiet = false;
   bool drop_unobservable = false;
+  bool certify = false;
   Optimizer::Options options;
   RobustOptions robust;
   OutlierCliOptions outliers;
@@ -209,7 +211,11 @@ void declareOptimizeOptions(po::options_description& desc, OptimizeOptions& o) {
       "drop-unobservable",
       "remove the vertices the edges do not determine (no edges, a landmark seen by one "
       "range or by parallel bearings) and their edges before optimising; without it such a "
-      "graph is refused (exit 2)");
+      "graph is refused (exit 2)")(
+      "certify",
+      "first certify the global optimum of SE-Sync's objective (graphslam certify: pose "
+      "graphs only; isotropic weights from the edges' information), then refine the chosen "
+      "--objective from the certified poses; the report names the objective certified");
   declareRobustOptions(desc, o.robust);
   declareOutlierOptions(desc, o.outliers);
   declareViewOptions(desc, o.view_page, o.view_covariance);
@@ -262,9 +268,15 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   options.linear_solver = o.solver;
   o.quiet = vm.count("quiet") != 0;
   o.drop_unobservable = vm.count("drop-unobservable") != 0;
+  o.certify = vm.count("certify") != 0;
   checkOutlierOptions(vm, o.outliers);
   if (!o.view_covariance.empty() && o.view_page.empty()) {
     throw UsageError("--view-covariance needs --view PAGE.html");
+  }
+  if (o.certify && o.outliers.reject) {
+    throw UsageError(
+        "--certify and --reject-outliers do not go together (the certificate is "
+        "of every edge's terms)");
   }
   return true;
 }
@@ -437,6 +449,7 @@ int cmdOptimize(const std::vector<std::string>& args) {
     outputs.abort();
     exitWithoutFreeing(kExitFailed);
   }
+  if (o.certify) (void)certifyBeforeOptimize(graph, reg.types, o.input);
   applyRobustOptions(o.robust, graph, reg);
   // Kept for the plot only (a map entry per vertex: 80 MB on a million poses).
   const auto initial_positions = o.plot.empty() ? decltype(positions(graph)){} : positions(graph);
@@ -510,6 +523,7 @@ extern "C" __attribute__((visibility("default"))) int graphslam_tool_run(int arg
     if (command == "incremental") return cmdIncremental(args);
     if (command == "view") return cmdView(args);
     if (command == "calibrate") return cmdCalibrate(args);
+    if (command == "certify") return cmdCertify(args);
     std::cerr << "graphslam: unknown command '" << printable(command) << "'\n\n" << kMainUsage;
     return kExitBadInput;
   } catch (const po::error& e) {
