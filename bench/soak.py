@@ -18,7 +18,7 @@ after every step (the rss_kb column of --stats) against the step, and the APE of
 the vehicle positions against the ground truth (RMS of the position error, no alignment:
 GPS fixes the frame). Window mode's trajectory is the vertices as they left the window
 (frozen then) and the window's at the end. Prints a markdown table and, with --plots,
-writes soak_latency.png and soak_memory.png there (docs/images/soak_10laps_*.png are
+writes soak_latency.png and soak_memory.png there (docs/img/soak/soak_10laps_*.png are
 those of --laps 10) (matplotlib).
 
 --pose-stream N instead replays a synthetic pose graph of N poses (`graphslam simulate

@@ -3,7 +3,7 @@
 # Chromium (view_browser_test.py). Prints "SKIP: ..." (the test's skip expression) without
 # Chromium, the Python interpreter or the dataset.
 #   cmake -DTOOL=graphslam -DDATA=datasets -DWORK=dir -DCASE=intel|canvas|landmarks|sphere|outliers|eval
-#         -DPYTHON=/usr/bin/python3 -DSCRIPT=view_browser_test.py [-DSHOTS=docs/images] -P browser.cmake
+#         -DPYTHON=/usr/bin/python3 -DSCRIPT=view_browser_test.py [-DSHOTS=docs/img/view] -P browser.cmake
 file(MAKE_DIRECTORY "${WORK}")
 if(DEFINED ENV{GRAPHSLAM_DATA})
   set(DATA "$ENV{GRAPHSLAM_DATA}")
