@@ -27,6 +27,7 @@ from ._graphslam import (  # noqa: F401  (the public API)
     __version__,
     _register_edge,
     add_wrong_loop_closures,
+    certify,
     check_observability,
     configure_process,
     dead_reckon,
@@ -49,7 +50,9 @@ from ._graphslam import (  # noqa: F401  (the public API)
     simulate_manhattan,
     simulate_pose_graph_3d,
     solvers,
+    verify_certificate,
     vertex_tags,
+    write_view,
 )
 
 __all__ = [
@@ -62,6 +65,7 @@ __all__ = [
     "RegistryError",
     "Trajectory",
     "add_wrong_loop_closures",
+    "certify",
     "check_observability",
     "configure_process",
     "dead_reckon",
@@ -84,7 +88,9 @@ __all__ = [
     "simulate_manhattan",
     "simulate_pose_graph_3d",
     "solvers",
+    "verify_certificate",
     "vertex_tags",
+    "write_view",
 ]
 
 

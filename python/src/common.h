@@ -147,5 +147,6 @@ void bindSimulation(py::module_& m);
 void bindIncremental(py::module_& m);
 void bindCustomEdges(py::module_& m);
 void bindDrivebot(py::module_& m);
+void bindCertifyView(py::module_& m);
 
 }  // namespace graphslam::python

@@ -192,4 +192,5 @@ PYBIND11_MODULE(_graphslam, m) {
   bindIncremental(m);
   bindCustomEdges(m);
   bindDrivebot(m);
+  bindCertifyView(m);
 }
