@@ -59,7 +59,7 @@ struct IncrementalCliOptions {
   int check_every = 0;
   std::string marginalised_out;
   bool quiet = false;  ///< -q: the summary only, without the input's description
-  bool batch = true;  ///< --no-batch: no batch optimum for scale
+  bool batch = true;   ///< --no-batch: no batch optimum for scale
   incremental::ReplayOptions replay;
 };
 

@@ -29,9 +29,9 @@ inline constexpr const char* kMainUsage =
 
 /// The command names of kMainUsage.
 inline constexpr const char* kCommands[] = {
-    "optimize",  "simulate", "eval",       "deadreckon",   "convert",
-    "info",      "drivebot", "solvers",    "add-outliers", "incremental",
-    "view",      "calibrate", "certify",   "list-types", "list-solvers", "list-kernels"};
+    "optimize", "simulate",   "eval",         "deadreckon",  "convert", "info",
+    "drivebot", "solvers",    "add-outliers", "incremental", "view",    "calibrate",
+    "certify",  "list-types", "list-solvers", "list-kernels"};
 
 [[nodiscard]] inline bool isCommand(const char* name) {
   for (const char* c : kCommands) {

@@ -104,7 +104,8 @@ using IdArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcec
 /// A C-contiguous float64 array made from `obj` (a numpy array of a real dtype, a list, a
 /// number). Raises ValueError naming `what` for other dtypes, objects that are not numbers
 /// and (unless allow_nonfinite) NaN or infinity.
-DoubleArray doubleArray(const py::handle& obj, const std::string& what, bool allow_nonfinite = false);
+DoubleArray doubleArray(const py::handle& obj, const std::string& what,
+                        bool allow_nonfinite = false);
 /// The same for integer ids (int64): floats must be whole numbers.
 IdArray idArray(const py::handle& obj, const std::string& what);
 /// A VertexId from a Python integer; ValueError when it does not fit.

@@ -104,10 +104,12 @@ void bindRegistryListings(py::module_& m) {
       "kernels",
       [] {
         py::dict out;
-        for (const auto* e : registries().kernels.entries()) out[py::str(e->name)] = e->default_width;
+        for (const auto* e : registries().kernels.entries())
+          out[py::str(e->name)] = e->default_width;
         return out;
       },
-      "The registered robust kernels: {name: default width} (optimize(robust_kernel=\"NAME[:WIDTH]\")).");
+      "The registered robust kernels: {name: default width} "
+      "(optimize(robust_kernel=\"NAME[:WIDTH]\")).");
   m.def(
       "graph_formats",
       [] {
@@ -129,9 +131,7 @@ void bindRegistryListings(py::module_& m) {
 void bindProcess(py::module_& m) {
   m.def(
       "load_plugins",
-      [](const std::vector<std::string>& files) {
-        host::loadPlugins(registries(), files);
-      },
+      [](const std::vector<std::string>& files) { host::loadPlugins(registries(), files); },
       py::arg("files") = std::vector<std::string>{},
       "Loads the plugins of GRAPHSLAM_PLUGIN_PATH's folders, then `files` (shared libraries "
       "exporting graphslam_plugin_register): their types, solvers and kernels become usable by "
@@ -163,7 +163,8 @@ void bindProcess(py::module_& m) {
         if (level == "info") return support::setLogLevel(LogLevel::kInfo);
         if (level == "warning") return support::setLogLevel(LogLevel::kWarning);
         if (level == "error") return support::setLogLevel(LogLevel::kError);
-        throw py::value_error("log level must be debug, info, warning or error, not '" + level + "'");
+        throw py::value_error("log level must be debug, info, warning or error, not '" + level +
+                              "'");
       },
       py::arg("level"),
       "The library's log threshold (debug, info, warning, error; default warning); messages "
