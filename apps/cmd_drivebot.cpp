@@ -21,6 +21,7 @@
 #include "output_set.h"
 #include "plotting.h"
 #include "view_output.h"
+#include "window_output.h"
 
 namespace graphslam::apps {
 
@@ -228,7 +229,13 @@ std::string sensorList(const SimulatorConfig& sim) {
   return s;
 }
 
-void declareOptions(po::options_description& desc) {
+/// The fixed-lag window's options (window_output.h), bound before the setup exists.
+struct WindowCli {
+  incremental::WindowOptions window;
+  std::string marginalised_out;
+};
+
+void declareOptions(po::options_description& desc, WindowCli& window) {
   // clang-format off
   desc.add_options()
     ("help,h", "show this help")
@@ -275,6 +282,7 @@ void declareOptions(po::options_description& desc) {
     ("solver", po::value<std::string>(), "linear solver (default auto)")
     ("quiet,q", "print only the report");
   // clang-format on
+  addWindowOptions(desc, window.window, window.marginalised_out, "vehicle states");
 }
 
 /// Whether `name` was given on the command line (not only defaulted).
@@ -422,6 +430,15 @@ void printSettings(const Setup& setup, const Scenario& scenario, const char* opt
       slam.optimize_every > 0 ? ("every " + std::to_string(slam.optimize_every) + " steps").c_str()
                               : "at the end only",
       toString(slam.remove_prediction_edges), toString(slam.prune), optimizer);
+  const incremental::WindowOptions& w = slam.incremental_options.window;
+  if (w.enabled()) {
+    std::printf("window:        fixed-lag smoothing, keeping");
+    if (w.states > 0) std::printf(" %zu vehicle states (slack %zu)", w.states, w.slack);
+    if (w.seconds > 0) std::printf("%s %g s", w.states > 0 ? " and" : "", w.seconds);
+    std::printf("; landmarks %s\n", w.keep_landmarks           ? "kept"
+                                    : w.reinitialize_landmarks ? "leave, started anew if seen again"
+                                                               : "leave, later sightings dropped");
+  }
   std::fflush(stdout);
 }
 
@@ -455,30 +472,45 @@ void printProgress(const StepRecord& s) {
 
 namespace {
 
-/// The long-run options of `graphslam incremental` that drivebot does not have yet: refused
-/// with a message saying how to get them, rather than as unknown options.
-void refuseLongRunOptions(const std::vector<std::string>& args) {
+/// The checkpoint options of `graphslam incremental`, which drivebot does not have yet (a
+/// checkpoint would also need the simulator's state): refused with a message saying how to
+/// get them, rather than as unknown options.
+void refuseCheckpointOptions(const std::vector<std::string>& args) {
   for (const std::string& a : args) {
-    for (const char* name :
-         {"--window", "--window-seconds", "--window-slack", "--marginalised-out", "--checkpoint",
-          "--checkpoint-every", "--resume", "--reinitialise-landmarks"}) {
+    for (const char* name : {"--checkpoint", "--checkpoint-every", "--resume"}) {
       if (a == name || a.rfind(std::string(name) + "=", 0) == 0) {
         throw UsageError(std::string(name) +
-                         ": drivebot has no fixed-lag window or checkpoints yet; write the "
-                         "drive's stream (--optimize-every 0 --final-iterations 0, final.g2o) "
-                         "and replay it with graphslam incremental " +
+                         ": drivebot has no checkpoints yet (they would need the simulator's "
+                         "state too); write the drive's stream (--optimize-every 0 "
+                         "--final-iterations 0, final.g2o) and replay it with graphslam "
+                         "incremental " +
                          name + " (docs/DRIVEBOT.md, \"Long drives\")");
       }
     }
   }
 }
 
+/// What the fixed-lag window did, after the run.
+void printWindowReport(const DriveBotSlamSystem& system) {
+  if (!system.windowed()) return;
+  const incremental::WindowOptions& w = system.options().incremental_options.window;
+  std::printf("window:        %zu vertices marginalised, %zu in the graph at the end%s",
+              system.marginalizedCount(), system.graph().numVertices(),
+              w.keep_landmarks ? " (landmarks kept)" : "");
+  if (system.refusedObservations() > 0) {
+    std::printf("; %zu observations of landmarks that had left dropped",
+                system.refusedObservations());
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 int cmdDrivebot(const std::vector<std::string>& args) {
-  refuseLongRunOptions(args);
+  refuseCheckpointOptions(args);
   po::options_description desc("options");
-  declareOptions(desc);
+  WindowCli window;
+  declareOptions(desc, window);
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(kUsage, desc);
@@ -489,6 +521,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     return kExitOk;
   }
   Setup setup = setupFromOptions(vm);
+  checkWindowOptions(window.window, window.marginalised_out);
+  setup.slam.incremental_options.window = window.window;
   const std::string out_dir = vm["out"].as<std::string>();
   oneBlasThreadUnlessSet();
 
@@ -507,6 +541,9 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   OutputFolder outputs(out_dir);
   const std::string view_page = given(vm, "view") ? vm["view"].as<std::string>() : std::string();
   OutputSet view_output({view_page}, {});
+  MarginalisedOut marginalised(window.marginalised_out, reg.types);
+  marginalised.attach(setup.slam.incremental_options.window);
+  marginalised.start();
   Simulator simulator(scenario, setup.sim);
   DriveBotSlamSystem system(reg.solvers, setup.slam);
   const char* optimizer = system.usesIncremental() ? "incremental" : "batch";
@@ -516,7 +553,11 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   if (!runSucceeded(result)) return kExitFailed;
 
   printDrivebotReport(scenario, result, setup.sim.enable_laser);
-  writeDrivebotResults(outputs.staged(), scenario, result, system.graph(), reg.types);
+  printWindowReport(system);
+  // A window's graph holds its marginalisation priors, which .g2o has no line for.
+  const Graph window_graph = system.windowed() ? withoutPriors(system.graph(), reg.types) : Graph();
+  const Graph& final_graph = system.windowed() ? window_graph : system.graph();
+  writeDrivebotResults(outputs.staged(), scenario, result, final_graph, reg.types);
   if (vm.count("plot")) {
     std::string title = scenario.name;
     if (!setup.description.empty()) title = setup.description;

@@ -32,7 +32,8 @@ constexpr const char* kIncrementalUsage =
     "                             [--max-passes N] [--backsubstitution-fraction F]\n"
     "                             [--check-every N]\n"
     "                             [--window N | --window-seconds S] [--marginalised-out FILE]\n"
-    "                             [--window-slack B] [--reinitialise-landmarks]\n"
+    "                             [--window-slack B]\n"
+    "                             [--reinitialise-landmarks | --keep-landmarks]\n"
     "                             [--checkpoint FILE --checkpoint-every N] [--resume FILE]\n"
     "                             [--refine X] [--no-batch] [--plugin LIB]... [-q]\n"
     "Replays a graph as a robot builds it, through the incremental optimizer: poses in id\n"
@@ -46,9 +47,10 @@ constexpr const char* kIncrementalUsage =
     "-o writes the replayed graph; --stats one CSV line per step; --plot the per-step time and\n"
     "chi2 against the step (chi2 is then computed after every step, outside the timed part).\n"
     "Fixed-lag smoothing (--window, --window-seconds): poses older than the window are\n"
-    "marginalised with the landmarks only they see, their information kept as a dense prior\n"
-    "on what they connect to (first-estimate caveats: docs/ARCHITECTURE.md); edges reaching a\n"
-    "marginalised vertex are refused and counted. Checkpoints (--checkpoint) are written\n"
+    "marginalised with the landmarks only they see (--keep-landmarks: the landmarks stay),\n"
+    "their information kept as a dense prior on what they connect to (first-estimate\n"
+    "caveats: docs/ARCHITECTURE.md); edges reaching a marginalised vertex are refused and\n"
+    "counted. Checkpoints (--checkpoint) are written\n"
     "atomically; --resume continues a killed run from its last one and reaches the same\n"
     "estimates bit for bit as the run that was not killed.";
 
@@ -96,22 +98,6 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "refine", doubleValue(&o.replay.refine_threshold, 1e-6),
       "after the last step, relinearise every vertex whose step exceeds this and solve again "
       "until none does (the optimizer's refine(); timed apart; 0: off)")(
-      "window", po::value(&opt.window.states)->default_value(0),
-      "fixed-lag smoothing: keep the newest N poses, marginalise older ones and the landmarks "
-      "only they see (0: the full history)")(
-      "window-slack", po::value(&opt.window.slack)->default_value(0),
-      "with --window N: marginalise only when the window exceeds N + this, then down to N "
-      "(the window is eliminated afresh after each marginalisation: once every this-many "
-      "steps instead of at every one)")(
-      "window-seconds", doubleValue(&opt.window.seconds, 0.0),
-      "fixed-lag smoothing by time: keep the poses within S seconds of the newest (the poses "
-      "need time stamps, as VERTEX_VEHICLE's; 0: off)")(
-      "marginalised-out", po::value(&o.marginalised_out),
-      "append every marginalised vertex to this file as it leaves the window (.g2o vertex "
-      "lines: tag, id, estimate, line parameters)")(
-      "reinitialise-landmarks", po::bool_switch(&opt.window.reinitialize_landmarks),
-      "with a window: a marginalised landmark seen again is added anew, placed by that "
-      "observation (default: its edges are refused like those to marginalised poses)")(
       "checkpoint", po::value(&o.replay.checkpoint_path),
       "write the optimizer's state here (atomically; with --checkpoint-every)")(
       "checkpoint-every", po::value(&o.replay.checkpoint_every)->default_value(0),
@@ -124,6 +110,7 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
       "skip the batch optimum of the whole file (for long streams: it needs the "
       "memory and time of a batch solve)")(
       "quiet,q", "print only the summary (not the input's description and notes)");
+  addWindowOptions(desc, opt.window, o.marginalised_out, "poses");
   po::positional_options_description pos;
   pos.add("input", 1);
   const auto vm = parse(args, desc, &pos);
@@ -146,15 +133,8 @@ bool parseIncrementalOptions(const std::vector<std::string>& args, IncrementalCl
   if (!(o.replay.refine_threshold >= 0 && std::isfinite(o.replay.refine_threshold))) {
     throw UsageError("--refine must be a finite number >= 0 (0: off)");
   }
-  if (!(opt.window.seconds >= 0 && std::isfinite(opt.window.seconds))) {
-    throw UsageError("--window-seconds must be a finite number >= 0 (0: off)");
-  }
+  checkWindowOptions(opt.window, o.marginalised_out);
   const bool window = opt.window.enabled();
-  if (!window && (!o.marginalised_out.empty() || opt.window.reinitialize_landmarks)) {
-    throw UsageError(
-        "--marginalised-out and --reinitialise-landmarks need --window or "
-        "--window-seconds");
-  }
   if (window && o.check_every > 0) {
     throw UsageError(
         "--check-every compares with a batch solve of the whole graph: not with "
@@ -230,6 +210,7 @@ void printWindow(const incremental::ReplayResult& r, const IncrementalCliOptions
   std::string bounds;
   if (w.states > 0) bounds = std::to_string(w.states) + " poses";
   if (w.seconds > 0) bounds += (bounds.empty() ? "" : ", ") + formatGap(w.seconds) + " s";
+  if (w.keep_landmarks) bounds += ", landmarks kept";
   std::printf(
       "window: %s; %zu vertices marginalised, %zu in the graph at the end (its chi2 "
       "holds the marginalisation prior: not comparable with the batch optimum)\n",

@@ -3,6 +3,7 @@
 // --marginalised-out file and the graph written without the marginalisation priors.
 #pragma once
 
+#include <boost/program_options.hpp>
 #include <fstream>
 #include <string>
 
@@ -36,6 +37,17 @@ class MarginalisedOut {
   const TypeRegistry& types_;
   std::ofstream out_;
 };
+
+/// The fixed-lag window's options of the tool (incremental, drivebot), bound to `window`
+/// and `marginalised_out`: --window N, --window-slack B, --window-seconds S,
+/// --marginalised-out FILE, --reinitialise-landmarks, --keep-landmarks. `states` names the
+/// window's states in the help ("poses", "vehicle states").
+void addWindowOptions(boost::program_options::options_description& desc,
+                      incremental::WindowOptions& window, std::string& marginalised_out,
+                      const std::string& states);
+/// Refuses (UsageError) a combination of them that means nothing.
+void checkWindowOptions(const incremental::WindowOptions& window,
+                        const std::string& marginalised_out);
 
 /// A copy of `graph` without its marginalisation priors (incremental::LinearPriorEdge, which
 /// `.g2o` has no line for), to write the window's graph.

@@ -5,18 +5,22 @@ optimizer with the full history and with a fixed-lag window, side by side.
 
 usage: bench/soak.py GRAPHSLAM [--laps N] [--window N] [--slack B] [--seed S] [--work DIR]
                      [--outage-every S --outage-seconds S] [--plots DIR] [--max-seconds S]
+                     [--modes full,window,window-keep]
 
 The drive: `graphslam drivebot` on a generated scenario (a 100 m x 60 m rectangle driven
 --laps times, 28 landmarks beside the road; GPS every second, compass, laser), without
 optimising (--optimize-every 0 --final-iterations 0): its final.g2o is the measurement
 stream and steps.csv the ground truth. GPS outages: the GPS edges of every --outage-seconds
 long interval starting each --outage-every seconds are dropped from the stream. Then
-`graphslam incremental` replays the stream twice (full history; --window N poses with
---marginalised-out), with --stats. Recorded per mode: the per-step update time (p50, p99,
+`graphslam incremental` replays the stream once per mode (--modes: `full`, the full
+history; `window`, --window N poses with --marginalised-out and --reinitialise-landmarks,
+landmarks leaving with their last observer; `window-keep`, the same with --keep-landmarks),
+with --stats. Recorded per mode: the per-step update time (p50, p99,
 max) of each tenth of the run, the resident set size of the process
 after every step (the rss_kb column of --stats) against the step, and the APE of
 the vehicle positions against the ground truth (RMS of the position error, no alignment:
-GPS fixes the frame). Window mode's trajectory is the vertices as they left the window
+GPS fixes the frame), over the drive and over its second half (once the map has been
+driven past several times). Window mode's trajectory is the vertices as they left the window
 (frozen then) and the window's at the end. Prints a markdown table and, with --plots,
 writes soak_latency.png and soak_memory.png there (docs/img/soak/soak_10laps_*.png are
 those of --laps 10) (matplotlib).
@@ -118,6 +122,7 @@ def trajectory(*files):
 
 
 def ape(est, truth_csv):
+    """RMS position error over the drive and over its second half, and the states matched."""
     err = []
     with open(truth_csv) as f:
         for r in csv.DictReader(f):
@@ -125,7 +130,8 @@ def ape(est, truth_csv):
             if key in est:
                 x, y = est[key]
                 err.append((x - float(r["true_x"])) ** 2 + (y - float(r["true_y"])) ** 2)
-    return math.sqrt(sum(err) / len(err)), len(err)
+    half = err[len(err) // 2:]
+    return math.sqrt(sum(err) / len(err)), math.sqrt(sum(half) / len(half)), len(err)
 
 
 def rss_growth(rss):
@@ -196,7 +202,7 @@ def main():
     ap.add_argument("--outage-seconds", type=float, default=60.0)
     ap.add_argument("--plots", default="")
     ap.add_argument("--max-seconds", type=float, default=900.0)
-    ap.add_argument("--modes", default="full,window")
+    ap.add_argument("--modes", default="full,window,window-keep")
     ap.add_argument("--check", action="store_true",
                     help="exit 1 unless every figure is finite and both runs covered every step")
     ap.add_argument("--pose-stream", type=int, default=0)
@@ -222,32 +228,35 @@ def main():
         cmd = [a.graphslam, "incremental", stream, "-q", "--refine", "0", "--no-batch", "--stats", stats,
                "-o", out]
         files = [out]
-        if mode == "window":
-            marg = os.path.join(a.work, "marginalised.g2o")
+        if mode.startswith("window"):
+            marg = os.path.join(a.work, f"{mode}-marginalised.g2o")
             cmd += ["--window", str(a.window), "--window-slack", str(a.slack), "--marginalised-out", marg,
-                    "--reinitialise-landmarks"]
+                    "--keep-landmarks" if mode == "window-keep" else "--reinitialise-landmarks"]
             files = [marg, out]
         _, seconds, _ = run_sampled(cmd, a.max_seconds)
         dec, steps, rss = deciles(stats)
-        err, matched = ape(trajectory(*files), truth)
-        results[mode] = {"deciles": dec, "rss": rss, "seconds": seconds, "ape": err,
+        err, err_half, matched = ape(trajectory(*files), truth)
+        results[mode] = {"deciles": dec, "rss": rss, "seconds": seconds, "ape": err, "ape_half": err_half,
                          "steps": steps, "matched": matched, "growth": rss_growth(rss)}
     print(f"drive: {a.laps} laps, seed {a.seed}, {next(iter(results.values()))['steps']} steps, "
           f"{dropped} GPS fixes dropped in outages ({a.outage_seconds:g} s every {a.outage_every:g} s)\n")
     print("| mode | run (s) | p50 first / last 10 % (ms) | p99 first / last 10 % (ms) | p99 ratio | "
-          "max (ms) | RSS end (MB) | RSS growth, last half | APE (m) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "max (ms) | RSS end (MB) | RSS growth, last half | APE (m) | APE, second half (m) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for mode, r in results.items():
         d = r["deciles"]
-        name = mode if mode == "full" else f"window {a.window} (slack {a.slack})"
+        name = {"full": "full history", "window": f"window {a.window} (slack {a.slack}), landmarks leave",
+                "window-keep": f"window {a.window} (slack {a.slack}), landmarks kept"}[mode]
         print(f"| {name} | {r['seconds']:.1f} | {d[0][0]:.3f} / {d[-1][0]:.3f} | {d[0][1]:.3f} / {d[-1][1]:.3f} "
               f"| {d[-1][1] / d[0][1]:.2f} | {max(x[2] for x in d):.1f} | {r['rss'][-1] / 1024:.1f} "
-              f"| {100 * r['growth']:.1f} % | {r['ape']:.3f} |")
+              f"| {100 * r['growth']:.1f} % | {r['ape']:.3f} | {r['ape_half']:.3f} |")
     print("\nper tenth of the run, p99 (ms):")
     for mode, r in results.items():
         print(f"  {mode}: " + " ".join(f"{d[1]:.3f}" for d in r["deciles"]))
-    if "full" in results and "window" in results:
-        print(f"\nAPE window / full: {results['window']['ape'] / results['full']['ape']:.3f}")
+    for mode in ("window", "window-keep"):
+        if "full" in results and mode in results:
+            print(f"\nAPE {mode} / full: {results[mode]['ape'] / results['full']['ape']:.3f} "
+                  f"(second half {results[mode]['ape_half'] / results['full']['ape_half']:.3f})")
     if a.plots:
         plot(results, a.plots)
     if a.check:

@@ -84,6 +84,16 @@ DriveBotSlamSystem::DriveBotSlamSystem(const SolverRegistry& solvers, SlamSystem
   if (options_.optimize_every < 0) throw Error("DriveBot SLAM: optimize_every must be >= 0");
   if (options_.max_iterations < 1) throw Error("DriveBot SLAM: max_iterations must be >= 1");
   if (options_.prune_every < 1) throw Error("DriveBot SLAM: prune_every must be >= 1");
+  if (windowed()) {
+    if (!usesIncremental()) {
+      throw Error(
+          "DriveBot SLAM: the fixed-lag window needs the incremental optimizer (not with "
+          "prediction-edge removal, the coursework's pruning or the unwrapped compass error)");
+    }
+    on_marginalised_ = std::move(options_.incremental_options.window.on_marginalised);
+    options_.incremental_options.window.on_marginalised =
+        [this](const Vertex& v, const incremental::WindowState* s) { recordMarginalized(v, s); };
+  }
   if (usesIncremental()) {
     incremental_ =
         std::make_unique<incremental::IncrementalOptimizer>(graph_, options_.incremental_options);
@@ -158,6 +168,7 @@ void DriveBotSlamSystem::handleInitialCondition(const Event& event) {
   v->setFixed(known);
   current_vehicle_ = static_cast<VertexVehicle*>(&addVertex(std::move(v)));
   vehicle_ids_.push_back(current_vehicle_->id());
+  if (windowed()) incremental_->addState(current_vehicle_->id(), event.time);
   if (!known) {
     auto prior = std::make_unique<EdgeVehiclePrior>();
     prior->setVertexId(0, current_vehicle_->id());
@@ -187,6 +198,7 @@ void DriveBotSlamSystem::predictToTime(double time, double dt) {
   if (current_vehicle_->id() == vehicle_ids_.front()) first_prediction_edge_ = &added;
   current_vehicle_ = next;
   vehicle_ids_.push_back(next->id());
+  if (windowed()) incremental_->addState(next->id(), time);
 }
 
 void DriveBotSlamSystem::handleGps(const Event& event) {
@@ -264,8 +276,9 @@ void DriveBotSlamSystem::handleLandmarks(const Event& event) {
     last_seen_step_[o.landmark_id] = step_number_;
     if (!keep[k]) continue;
     auto found = landmark_ids_.find(o.landmark_id);
-    const bool is_new = found == landmark_ids_.end();
-    if (is_new) {
+    bool is_new = found == landmark_ids_.end();
+    if (!is_new && windowed() && windowLandmarkVertex(found->second, is_new) < 0) continue;
+    if (is_new && found == landmark_ids_.end()) {
       auto l = std::make_unique<VertexLandmark>();
       l->setId(next_id_++);
       const VertexId id = addVertex(std::move(l)).id();
@@ -351,11 +364,9 @@ Summary DriveBotSlamSystem::optimizeBatch(int max_iterations) {
   optimizer_->mutableOptions().max_iterations =
       max_iterations > 0 ? max_iterations : options_.max_iterations;
   summary = optimizer_->optimize();
-  // The batch run moved the estimates: the incremental factor starts again from them.
-  if (incremental_) {
-    incremental_ =
-        std::make_unique<incremental::IncrementalOptimizer>(graph_, options_.incremental_options);
-  }
+  // The batch run moved the estimates: the incremental factor starts again from them (a
+  // window keeps its states and what left).
+  if (incremental_) incremental_->restart();
   return summary;
 }
 
@@ -440,45 +451,6 @@ MarginalSummary DriveBotSlamSystem::currentVehicleCovariance(Eigen::Matrix3d& co
   }
   MarginalSummary s = marginals_.compute(graph_, {current_vehicle_->id()});
   if (s.ok()) covariance = marginals_.block(current_vehicle_->id());
-  return s;
-}
-
-MarginalSummary DriveBotSlamSystem::landmarkEstimates(std::vector<LandmarkEstimate>& out) {
-  out.clear();
-  std::vector<VertexId> ids;
-  for (const auto& [landmark, vertex] : landmark_ids_) ids.push_back(vertex);
-  if (ids.empty()) return {};
-  MarginalSummary s = marginals_.compute(graph_, ids);
-  for (const auto& [landmark, vertex] : landmark_ids_) {
-    const auto* v = static_cast<const VertexLandmark*>(graph_.vertex(vertex));
-    LandmarkEstimate e;
-    e.landmark_id = landmark;
-    e.vertex = vertex;
-    e.x = v->estimate();
-    if (s.ok()) e.covariance = marginals_.block(vertex);
-    e.observations = static_cast<int>(v->edges().size());
-    e.last_seen_step = last_seen_step_.at(landmark);
-    out.push_back(e);
-  }
-  return s;
-}
-
-MarginalSummary DriveBotSlamSystem::vehicleHistory(VehicleHistory& out) {
-  out = VehicleHistory{};
-  std::vector<VertexId> determined;  // vertices without edges have no covariance
-  for (VertexId id : vehicle_ids_) {
-    const Vertex* v = graph_.vertex(id);
-    if (v->fixed() || !v->edges().empty()) determined.push_back(id);
-  }
-  MarginalSummary s = marginals_.compute(graph_, determined);
-  for (VertexId id : vehicle_ids_) {
-    const auto* v = static_cast<const VertexVehicle*>(graph_.vertex(id));
-    out.time.push_back(v->time());
-    out.x.push_back(v->estimate());
-    out.variance.push_back(s.ok() && marginals_.hasBlock(id)
-                               ? Eigen::Vector3d(marginals_.block(id).diagonal())
-                               : Eigen::Vector3d::Constant(std::nan("")));
-  }
   return s;
 }
 

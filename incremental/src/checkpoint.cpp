@@ -114,6 +114,12 @@ std::string tagOrThrow(const std::string* tag, const std::string& what) {
   return *tag;
 }
 
+// One byte: bit 0 reinitialize_landmarks, bit 1 keep_landmarks (files written before
+// keep_landmarks existed hold 0 or 1, and read the same).
+std::uint8_t landmarkPolicy(const WindowOptions& w) {
+  return static_cast<std::uint8_t>((w.reinitialize_landmarks ? 1 : 0) | (w.keep_landmarks ? 2 : 0));
+}
+
 void writeOptions(Writer& w, const Options& o) {
   w.put(o.relinearize_threshold);
   w.put<std::int64_t>(o.max_passes);
@@ -124,7 +130,7 @@ void writeOptions(Writer& w, const Options& o) {
   w.put<std::uint64_t>(o.window.slack);
   w.put(o.window.seconds);
   w.put(o.window.rank_tolerance);
-  w.put<std::uint8_t>(o.window.reinitialize_landmarks ? 1 : 0);
+  w.put<std::uint8_t>(landmarkPolicy(o.window));
 }
 
 // Refuses a file written with other options than `o`, naming the first that differs.
@@ -146,8 +152,8 @@ void checkOptions(Reader& r, const Options& o) {
        static_cast<double>(o.window.slack));
   same("window seconds", r.get<double>(), o.window.seconds);
   same("window rank_tolerance", r.get<double>(), o.window.rank_tolerance);
-  same("window reinitialize_landmarks", r.get<std::uint8_t>(),
-       o.window.reinitialize_landmarks ? 1 : 0);
+  same("window landmark policy (1: reinitialize_landmarks, 2: keep_landmarks)",
+       r.get<std::uint8_t>(), landmarkPolicy(o.window));
 }
 
 void writeEdge(Writer& w, const Edge& e, const TypeRegistry& types) {

@@ -32,6 +32,12 @@ IncrementalOptimizer::IncrementalOptimizer(Graph& graph, Options options)
         "relinearize_skip >= 1, "
         "chain_min_front_rows >= 1)");
   }
+  if (options_.window.keep_landmarks && options_.window.reinitialize_landmarks) {
+    throw Error(
+        "IncrementalOptimizer: WindowOptions::keep_landmarks and reinitialize_landmarks "
+        "exclude each other (a kept landmark never leaves, so it is never seen again after "
+        "leaving)");
+  }
   impl_->version = graph_.structureVersion();
   impl_->factor.setChainMinFrontRows(options_.chain_min_front_rows);
 }

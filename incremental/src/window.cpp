@@ -3,6 +3,7 @@
 // after an update, and their marginalisation (linear_prior_edge.h).
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <set>
 
 #include "graphslam/incremental/linear_prior_edge.h"
@@ -35,6 +36,18 @@ std::vector<VertexId> IncrementalOptimizer::marginalize(const std::vector<Vertex
     }
   }
   return impl_->marginalizeStates(states);
+}
+
+void IncrementalOptimizer::restart() {
+  auto fresh = std::make_unique<Impl>(graph_, options_);
+  fresh->factor.setChainMinFrontRows(options_.chain_min_front_rows);
+  fresh->version = graph_.structureVersion();
+  fresh->states = std::move(impl_->states);
+  fresh->state_ids = std::move(impl_->state_ids);
+  fresh->marginalized = std::move(impl_->marginalized);
+  fresh->marginalized_landmarks = std::move(impl_->marginalized_landmarks);
+  fresh->marginalized_count = impl_->marginalized_count;
+  impl_ = std::move(fresh);
 }
 
 bool IncrementalOptimizer::isMarginalized(VertexId id) const { return impl_->isMarginalized(id); }
@@ -111,13 +124,13 @@ void IncrementalOptimizer::Impl::applyWindow() {
 }
 
 // The states and the landmarks that leave with them (every state they have an edge to
-// leaves), told to on_marginalised, then marginalised out of the graph; the next update()
-// rebuilds the factor.
+// leaves; none with keep_landmarks), told to on_marginalised, then marginalised out of the graph;
+// the next update() rebuilds the factor.
 std::vector<VertexId> IncrementalOptimizer::Impl::marginalizeStates(
     const std::vector<VertexId>& leaving_states) {
   const std::set<VertexId> leaving_set(leaving_states.begin(), leaving_states.end());
-  std::set<VertexId> landmarks;
-  for (VertexId id : leaving_set) {
+  std::set<VertexId> landmarks;  // none leave with keep_landmarks
+  for (VertexId id : options.window.keep_landmarks ? std::set<VertexId>() : leaving_set) {
     for (const Edge* e : graph.vertex(id)->edges()) {
       for (VertexId other : e->vertexIds()) {
         if (state_ids.count(other) || landmarks.count(other)) continue;

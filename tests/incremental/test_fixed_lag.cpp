@@ -4,9 +4,11 @@
 // leaving with their last observer, and checkpoints resumed bit for bit or refused.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <random>
 
 #include "graphslam/core/jacobian_check.h"
@@ -264,15 +266,21 @@ TEST(Incremental_Window, LandmarksLeaveWithTheirLastObserver) {
   EXPECT_LT(most, 20u + 40u);
 }
 
-// With reinitialize_landmarks a landmark seen again after it left is added anew: no
-// observation is refused, and the window still holds only landmarks its poses see.
-TEST(Incremental_Window, ReinitialisedLandmarksAreNotRefused) {
+// 300 poses without loop closures among 15 landmarks, each seen again after its observers
+// have left a window of 20.
+simulation::SimulatedGraph revisitedLandmarks() {
   simulation::ManhattanOptions sim;
   sim.num_poses = 300;
   sim.num_landmarks = 15;
   sim.seed = 9;
   sim.loop_probability = 0.0;
-  const auto world = simulation::simulateManhattan(sim);
+  return simulation::simulateManhattan(sim);
+}
+
+// With reinitialize_landmarks a landmark seen again after it left is added anew: no
+// observation is refused, and the window still holds only landmarks its poses see.
+TEST(Incremental_Window, ReinitialisedLandmarksAreNotRefused) {
+  const auto world = revisitedLandmarks();
   incremental::ReplayOptions options;
   options.optimizer.window.states = 20;
   Graph refused_graph;
@@ -285,6 +293,61 @@ TEST(Incremental_Window, ReinitialisedLandmarksAreNotRefused) {
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_EQ(r.refused_edges, 0u);
   EXPECT_GT(r.marginalized, refused.marginalized);
+}
+
+// Landmark id -> estimate, of the 2D landmarks in g.
+std::map<VertexId, Eigen::Vector2d> landmarkEstimates(const Graph& g) {
+  std::map<VertexId, Eigen::Vector2d> out;
+  for (const auto& [id, v] : g.vertices()) {
+    if (const auto* xy = dynamic_cast<const types_slam2d::VertexXY*>(v.get())) {
+      out[id] = xy->estimate();
+    }
+  }
+  return out;
+}
+
+// RMS distance of a's landmarks from b's (those in both).
+double landmarkRms(const Graph& a, const Graph& b) {
+  const auto la = landmarkEstimates(a), lb = landmarkEstimates(b);
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& [id, p] : la) {
+    if (!lb.count(id)) continue;
+    sum += (p - lb.at(id)).squaredNorm();
+    ++n;
+  }
+  return n ? std::sqrt(sum / static_cast<double>(n)) : std::nan("");
+}
+
+// With keep_landmarks only poses leave: every landmark stays to the end, none of its
+// observations is refused, and the map ends closer to the full history's than when
+// landmarks seen again start anew (those lose what the window knew of them).
+TEST(Incremental_Window, KeptLandmarksStayAndKeepTheirHistory) {
+  const auto world = revisitedLandmarks();
+  incremental::ReplayOptions options;
+  Graph full;
+  ASSERT_TRUE(incremental::replayGraph(world.graph, types(), full, options).ok);
+  options.optimizer.window.states = 20;
+  options.optimizer.window.reinitialize_landmarks = true;
+  Graph reinitialised;
+  ASSERT_TRUE(incremental::replayGraph(world.graph, types(), reinitialised, options).ok);
+  options.optimizer.window.reinitialize_landmarks = false;
+  options.optimizer.window.keep_landmarks = true;
+  Graph kept;
+  const auto r = incremental::replayGraph(world.graph, types(), kept, options);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.refused_edges, 0u);
+  EXPECT_EQ(landmarkEstimates(kept).size(), landmarkEstimates(full).size());
+  EXPECT_EQ(r.marginalized, 300u - r.window_vertices + landmarkEstimates(kept).size());
+  const double kept_rms = landmarkRms(kept, full),
+               reinitialised_rms = landmarkRms(reinitialised, full);
+  EXPECT_LT(kept_rms, 0.5 * reinitialised_rms) << kept_rms << " against " << reinitialised_rms;
+  // Both exclude each other.
+  incremental::Options both;
+  both.window.states = 20;
+  both.window.keep_landmarks = both.window.reinitialize_landmarks = true;
+  Graph g;
+  EXPECT_THROW(IncrementalOptimizer(g, both), Error);
 }
 
 std::string readAll(const std::string& path) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -102,6 +103,13 @@ struct SlamSystemOptions {
   /// only when it changes by more than 1e-4: a landmark seen again moves every pose that saw
   /// it a little, and solving all of them again made the cost of a landmark step grow with
   /// the laps (docs/DRIVEBOT.md, q2_c_every_step, has the figures and the accuracy given up).
+  /// Its `window` makes the system a fixed-lag smoother (incremental/incremental_optimizer.h,
+  /// WindowOptions): every vehicle vertex is a state stamped with its time, and old ones
+  /// are marginalised after the updates; their estimates as they left are kept for
+  /// vehicleHistory() (no covariance: NaN). Landmarks leave with the last state that sees
+  /// them unless window.keep_landmarks; an observation of a landmark that left is dropped
+  /// and counted (refusedObservations()), or with window.reinitialize_landmarks starts the
+  /// landmark anew. Needs the incremental optimizer (usesIncremental()).
   incremental::Options incremental_options = [] {
     incremental::Options o;
     o.relinearize_threshold = 0.01;
@@ -188,6 +196,13 @@ class DriveBotSlamSystem {
   [[nodiscard]] double chi2() { return graph_.chi2(); }
   /// Whether optimize() runs the incremental optimizer.
   [[nodiscard]] bool usesIncremental() const;
+  /// Whether the system is a fixed-lag smoother (SlamSystemOptions::incremental_options'
+  /// window).
+  [[nodiscard]] bool windowed() const { return options_.incremental_options.window.enabled(); }
+  /// Vertices marginalised out of the window so far (0 without a window).
+  [[nodiscard]] std::size_t marginalizedCount() const;
+  /// Landmark observations dropped because their landmark had left the window.
+  [[nodiscard]] std::size_t refusedObservations() const { return refused_observations_; }
   /// The constraint check of the last optimize().
   [[nodiscard]] const ConstraintReport& constraints() const { return constraints_; }
 
@@ -199,17 +214,19 @@ class DriveBotSlamSystem {
   /// Estimate of the newest vehicle vertex (zero before the initial condition).
   [[nodiscard]] Eigen::Vector3d currentVehicleEstimate() const;
   [[nodiscard]] VertexId currentVehicleVertex() const;
-  /// Vehicle vertex ids in time order.
+  /// Vehicle vertex ids in time order (with a window, also those marginalised: no longer in
+  /// graph()).
   [[nodiscard]] const std::vector<VertexId>& vehicleVertices() const { return vehicle_ids_; }
-  /// Landmark id -> vertex id.
+  /// Landmark id -> vertex id (with a window, also those marginalised).
   [[nodiscard]] const std::map<int, VertexId>& landmarkVertices() const { return landmark_ids_; }
 
   /// Marginal covariance of the newest vehicle vertex (zero if it is fixed).
   [[nodiscard]] MarginalSummary currentVehicleCovariance(Eigen::Matrix3d& covariance);
-  /// Estimates and marginal covariances of every landmark, by landmark id.
+  /// Estimates and marginal covariances of every landmark, by landmark id (a landmark that
+  /// left the window: its estimate then, covariance NaN).
   [[nodiscard]] MarginalSummary landmarkEstimates(std::vector<LandmarkEstimate>& out);
   /// Estimates and covariance diagonals of every vehicle vertex (NaN for a vertex without
-  /// edges).
+  /// edges, and for one marginalised out of the window: its estimate as it left).
   [[nodiscard]] MarginalSummary vehicleHistory(VehicleHistory& out);
 
   /// Landmarks in `events` seen before whose previous sighting was at least
@@ -236,6 +253,13 @@ class DriveBotSlamSystem {
   /// PruneRule::kCoursework: thins every landmark's observation edges in the graph.
   void pruneObservationEdges();
   std::string diagnose(const ConstraintReport& report) const;
+  /// The window's on_marginalised: keeps the estimates of the vertices that leave, then
+  /// calls the caller's.
+  void recordMarginalized(const Vertex& vertex, const incremental::WindowState* state);
+  /// With a window: the vertex of landmark `landmark_id` for a new observation, or -1 when
+  /// the landmark left the window and its observation is dropped (counted); a landmark
+  /// started anew (reinitialize_landmarks) gets a fresh vertex under its old id, `is_new`.
+  VertexId windowLandmarkVertex(VertexId vertex, bool& is_new);
   /// Through the incremental optimizer when it is used, so that it sees the change.
   Vertex& addVertex(std::unique_ptr<Vertex> vertex);
   Edge& addEdge(std::unique_ptr<Edge> edge);
@@ -253,6 +277,15 @@ class DriveBotSlamSystem {
   types_drivebot::VertexVehicle* current_vehicle_ = nullptr;
   std::vector<VertexId> vehicle_ids_;
   std::map<int, VertexId> landmark_ids_;
+  // Fixed-lag window: the estimates of the vertices that left (vehicles with their time).
+  struct FrozenVehicle {
+    double time = 0.0;
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  };
+  std::map<VertexId, FrozenVehicle> frozen_vehicles_;
+  std::map<VertexId, Eigen::Vector2d> frozen_landmarks_;
+  std::size_t refused_observations_ = 0;
+  std::function<void(const Vertex&, const incremental::WindowState*)> on_marginalised_;
   std::map<VertexId, int> landmark_of_vertex_;
   std::map<int, long> last_seen_step_;  ///< landmark id -> step of its last sighting
   std::map<int, int> sightings_;        ///< landmark id -> observations received

@@ -61,6 +61,15 @@ struct WindowOptions {
   /// from before (that went into the prior on the states), as a fixed-lag smoother starts a
   /// new track. Marginalised states are refused either way.
   bool reinitialize_landmarks = false;
+  /// Landmarks (vertices that are not states) never leave: only states are marginalised,
+  /// their information going into a prior on the landmarks they saw and the states they
+  /// connect to. A landmark seen again laps later then closes the loop with everything
+  /// known of it, as the full history would (the window's trajectory stays close to the
+  /// full history's; docs/BENCHMARKS.md, "Soak"), but the window no longer bounds the
+  /// map: memory and the cost of the update that eliminates the window afresh grow with
+  /// the number of landmarks (their prior is dense), not with the drive. For a robot that
+  /// works in a bounded area. Excludes reinitialize_landmarks.
+  bool keep_landmarks = false;
 
   [[nodiscard]] bool enabled() const { return states > 0 || seconds > 0.0 || policy; }
 };
@@ -187,6 +196,12 @@ class IncrementalOptimizer {
   /// map, at the end of a replay). Needs an update() after the last change of the graph
   /// (throws graphslam::Error otherwise). Returns false as update() does.
   bool refine(double threshold = 1e-6);
+  /// Starts again from the graph as it is, as a new optimizer on it would (after the
+  /// estimates were changed from outside, e.g. by a batch optimisation of the same graph):
+  /// the next update() linearises every edge at the current estimates and eliminates the
+  /// factor afresh. Unlike a new optimizer it keeps the fixed-lag window: its states, what
+  /// was marginalised (still refused) and the count.
+  void restart();
   /// What the last update() or refine() did.
   [[nodiscard]] const UpdateStats& lastStats() const;
   [[nodiscard]] const UpdateFailure& failure() const;
