@@ -10,6 +10,7 @@
 
 #include "builtins.h"
 #include "cli_common.h"
+#include "drivebot_longrun.h"
 #include "drivebot_output.h"
 #include "graphslam/drivebot/run.h"
 #include "graphslam/drivebot/scenario.h"
@@ -21,7 +22,6 @@
 #include "output_set.h"
 #include "plotting.h"
 #include "view_output.h"
-#include "window_output.h"
 
 namespace graphslam::apps {
 
@@ -229,13 +229,7 @@ std::string sensorList(const SimulatorConfig& sim) {
   return s;
 }
 
-/// The fixed-lag window's options (window_output.h), bound before the setup exists.
-struct WindowCli {
-  incremental::WindowOptions window;
-  std::string marginalised_out;
-};
-
-void declareOptions(po::options_description& desc, WindowCli& window) {
+void declareOptions(po::options_description& desc, DrivebotLongRun& longrun) {
   // clang-format off
   desc.add_options()
     ("help,h", "show this help")
@@ -282,7 +276,7 @@ void declareOptions(po::options_description& desc, WindowCli& window) {
     ("solver", po::value<std::string>(), "linear solver (default auto)")
     ("quiet,q", "print only the report");
   // clang-format on
-  addWindowOptions(desc, window.window, window.marginalised_out, "vehicle states");
+  addLongRunOptions(desc, longrun);
 }
 
 /// Whether `name` was given on the command line (not only defaulted).
@@ -470,47 +464,10 @@ void printProgress(const StepRecord& s) {
 
 }  // namespace
 
-namespace {
-
-/// The checkpoint options of `graphslam incremental`, which drivebot does not have yet (a
-/// checkpoint would also need the simulator's state): refused with a message saying how to
-/// get them, rather than as unknown options.
-void refuseCheckpointOptions(const std::vector<std::string>& args) {
-  for (const std::string& a : args) {
-    for (const char* name : {"--checkpoint", "--checkpoint-every", "--resume"}) {
-      if (a == name || a.rfind(std::string(name) + "=", 0) == 0) {
-        throw UsageError(std::string(name) +
-                         ": drivebot has no checkpoints yet (they would need the simulator's "
-                         "state too); write the drive's stream (--optimize-every 0 "
-                         "--final-iterations 0, final.g2o) and replay it with graphslam "
-                         "incremental " +
-                         name + " (docs/DRIVEBOT.md, \"Long drives\")");
-      }
-    }
-  }
-}
-
-/// What the fixed-lag window did, after the run.
-void printWindowReport(const DriveBotSlamSystem& system) {
-  if (!system.windowed()) return;
-  const incremental::WindowOptions& w = system.options().incremental_options.window;
-  std::printf("window:        %zu vertices marginalised, %zu in the graph at the end%s",
-              system.marginalizedCount(), system.graph().numVertices(),
-              w.keep_landmarks ? " (landmarks kept)" : "");
-  if (system.refusedObservations() > 0) {
-    std::printf("; %zu observations of landmarks that had left dropped",
-                system.refusedObservations());
-  }
-  std::printf("\n");
-}
-
-}  // namespace
-
 int cmdDrivebot(const std::vector<std::string>& args) {
-  refuseCheckpointOptions(args);
   po::options_description desc("options");
-  WindowCli window;
-  declareOptions(desc, window);
+  DrivebotLongRun longrun;
+  declareOptions(desc, longrun);
   const auto vm = parse(args, desc);
   if (vm.count("help")) {
     printHelp(kUsage, desc);
@@ -521,8 +478,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
     return kExitOk;
   }
   Setup setup = setupFromOptions(vm);
-  checkWindowOptions(window.window, window.marginalised_out);
-  setup.slam.incremental_options.window = window.window;
+  checkLongRunOptions(longrun, setup.run.snapshot_loop_closure);
+  setup.slam.incremental_options.window = longrun.window;
   const std::string out_dir = vm["out"].as<std::string>();
   oneBlasThreadUnlessSet();
 
@@ -541,9 +498,9 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   OutputFolder outputs(out_dir);
   const std::string view_page = given(vm, "view") ? vm["view"].as<std::string>() : std::string();
   OutputSet view_output({view_page}, {});
-  MarginalisedOut marginalised(window.marginalised_out, reg.types);
+  MarginalisedOut marginalised(longrun.marginalised_out, reg.types);
   marginalised.attach(setup.slam.incremental_options.window);
-  marginalised.start();
+  attachLongRun(longrun, marginalised, setup.run, reg.types, runSettings(vm));
   Simulator simulator(scenario, setup.sim);
   DriveBotSlamSystem system(reg.solvers, setup.slam);
   const char* optimizer = system.usesIncremental() ? "incremental" : "batch";

@@ -258,6 +258,7 @@ def main():
             print(f"\nAPE {mode} / full: {results[mode]['ape'] / results['full']['ape']:.3f} "
                   f"(second half {results[mode]['ape_half'] / results['full']['ape_half']:.3f})")
     if a.plots:
+        os.makedirs(a.plots, exist_ok=True)
         plot(results, a.plots)
     if a.check:
         for mode, r in results.items():

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "run_checkpoint.h"
+
 namespace graphslam::drivebot {
 
 namespace {
@@ -38,8 +40,11 @@ MapSnapshot snapshot(DriveBotSlamSystem& system, long step, double time, double 
 
 RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
+  detail::checkCheckpointOptions(options);
   RunResult result;
   result.optimizer = system.usesIncremental() ? "incremental" : "batch";
+  if (!options.resume_path.empty()) detail::resumeRun(simulator, system, options, result);
+  long last_checkpoint = result.steps.empty() ? 0 : result.steps.back().step;
   auto stop = [&](long step, const Summary& s) {
     result.failed = true;
     result.failed_step = step;
@@ -122,6 +127,11 @@ RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system, const Ru
     rec.edges = system.graph().numEdges();
     result.steps.push_back(rec);
     if (options.progress) options.progress(result.steps.back());
+    if (options.checkpoint_every > 0 && rec.optimized &&
+        rec.step - last_checkpoint >= options.checkpoint_every) {
+      detail::saveRunCheckpoint(system, options, result);
+      last_checkpoint = rec.step;
+    }
     simulator.step();
   }
   if (!result.failed && options.final_iterations > 0) {

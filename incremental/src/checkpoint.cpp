@@ -20,6 +20,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "graphslam/incremental/checkpoint_bytes.h"
 #include "graphslam/incremental/linear_prior_edge.h"
 #include "graphslam/support/error.h"
 #include "graphslam/support/file_util.h"
@@ -45,70 +46,6 @@ std::uint64_t fnv1a(const std::string& bytes) {
   return h;
 }
 
-class Writer {
- public:
-  template <typename T>
-  void put(T value) {
-    out_.append(reinterpret_cast<const char*>(&value), sizeof value);
-  }
-  void putString(const std::string& s) {
-    put<std::uint64_t>(s.size());
-    out_ += s;
-  }
-  void putDoubles(const double* data, std::size_t n) {
-    put<std::uint64_t>(n);
-    out_.append(reinterpret_cast<const char*>(data), n * sizeof(double));
-  }
-  void putDoubles(const std::vector<double>& v) { putDoubles(v.data(), v.size()); }
-  [[nodiscard]] const std::string& bytes() const { return out_; }
-
- private:
-  std::string out_;
-};
-
-class Reader {
- public:
-  Reader(const std::string& bytes, std::string file) : in_(bytes), file_(std::move(file)) {}
-  template <typename T>
-  T get() {
-    need(sizeof(T));
-    T value;
-    std::memcpy(&value, in_.data() + at_, sizeof value);
-    at_ += sizeof value;
-    return value;
-  }
-  std::string getString() {
-    const auto n = get<std::uint64_t>();
-    need(n);
-    std::string s = in_.substr(at_, n);
-    at_ += n;
-    return s;
-  }
-  std::vector<double> getDoubles(std::size_t expected = SIZE_MAX) {
-    const auto n = get<std::uint64_t>();
-    if (expected != SIZE_MAX && n != expected)
-      fail("a record holds " + std::to_string(n) + " values, its type " + std::to_string(expected));
-    if (n > (in_.size() - at_) / sizeof(double))
-      fail("its payload ends inside a record (inconsistent file)");
-    std::vector<double> v(n);
-    if (n) std::memcpy(v.data(), in_.data() + at_, n * sizeof(double));
-    at_ += n * sizeof(double);
-    return v;
-  }
-  [[nodiscard]] bool done() const { return at_ == in_.size(); }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(file_ + ": checkpoint refused: " + what);
-  }
-
- private:
-  void need(std::uint64_t n) const {
-    if (n > in_.size() - at_) fail("its payload ends inside a record (inconsistent file)");
-  }
-  const std::string& in_;
-  std::size_t at_ = 0;
-  std::string file_;
-};
-
 std::string tagOrThrow(const std::string* tag, const std::string& what) {
   if (!tag) throw Error("saveCheckpoint: " + what + ": its type is not registered");
   return *tag;
@@ -120,7 +57,7 @@ std::uint8_t landmarkPolicy(const WindowOptions& w) {
   return static_cast<std::uint8_t>((w.reinitialize_landmarks ? 1 : 0) | (w.keep_landmarks ? 2 : 0));
 }
 
-void writeOptions(Writer& w, const Options& o) {
+void writeOptions(ByteWriter& w, const Options& o) {
   w.put(o.relinearize_threshold);
   w.put<std::int64_t>(o.max_passes);
   w.put<std::int64_t>(o.relinearize_skip);
@@ -134,7 +71,7 @@ void writeOptions(Writer& w, const Options& o) {
 }
 
 // Refuses a file written with other options than `o`, naming the first that differs.
-void checkOptions(Reader& r, const Options& o) {
+void checkOptions(ByteReader& r, const Options& o) {
   const auto same = [&](const char* name, double saved, double now) {
     if (saved == now || (std::isnan(saved) && std::isnan(now))) return;
     std::ostringstream msg;
@@ -156,7 +93,7 @@ void checkOptions(Reader& r, const Options& o) {
        r.get<std::uint8_t>(), landmarkPolicy(o.window));
 }
 
-void writeEdge(Writer& w, const Edge& e, const TypeRegistry& types) {
+void writeEdge(ByteWriter& w, const Edge& e, const TypeRegistry& types) {
   w.put<std::uint64_t>(e.numVertices());
   for (VertexId id : e.vertexIds()) w.put<std::int64_t>(id);
   w.put<std::uint8_t>(e.active() ? 1 : 0);
@@ -190,7 +127,7 @@ void writeEdge(Writer& w, const Edge& e, const TypeRegistry& types) {
   w.putDoubles(e.informationData(), static_cast<std::size_t>(e.dimension()) * e.dimension());
 }
 
-std::unique_ptr<Edge> readEdge(Reader& r, const TypeRegistry& types, bool& active) {
+std::unique_ptr<Edge> readEdge(ByteReader& r, const TypeRegistry& types, bool& active) {
   const auto n = r.get<std::uint64_t>();
   if (n > (1u << 20)) r.fail("an edge with " + std::to_string(n) + " vertices");
   std::vector<VertexId> ids(n);
@@ -228,7 +165,7 @@ std::unique_ptr<Edge> readEdge(Reader& r, const TypeRegistry& types, bool& activ
   return e;
 }
 
-void writeGraph(Writer& w, const Graph& g, const TypeRegistry& types) {
+void writeGraph(ByteWriter& w, const Graph& g, const TypeRegistry& types) {
   w.put<std::uint64_t>(g.parameters().size());
   for (const auto& [id, p] : g.parameters()) {
     w.putString(tagOrThrow(types.tagOf(*p), "parameter " + std::to_string(id)));
@@ -253,7 +190,7 @@ void writeGraph(Writer& w, const Graph& g, const TypeRegistry& types) {
   for (const auto& e : g.edges()) writeEdge(w, *e, types);
 }
 
-Graph readGraph(Reader& r, const TypeRegistry& types) {
+Graph readGraph(ByteReader& r, const TypeRegistry& types) {
   Graph g;
   const auto np = r.get<std::uint64_t>();
   for (std::uint64_t k = 0; k < np; ++k) {
@@ -293,7 +230,7 @@ void IncrementalOptimizer::saveCheckpoint(const std::string& path, const TypeReg
       (graph_.structureVersion() != m.version && !m.needs_rebuild)) {
     throw Error("saveCheckpoint: call update() after changing the graph first");
   }
-  Writer w;
+  ByteWriter w;
   writeOptions(w, options_);
   w.put<std::int64_t>(m.update_count);
   w.put<std::uint8_t>(m.anchored ? 1 : 0);
@@ -372,7 +309,7 @@ std::string IncrementalOptimizer::loadCheckpoint(const std::string& path,
     throw Error("loadCheckpoint: the optimizer's graph must be empty");
   }
   const std::string payload = readPayload(path);
-  Reader r(payload, path);
+  ByteReader r(payload, path);
   checkOptions(r, options_);
   Impl fresh(graph_, options_);
   fresh.update_count = r.get<std::int64_t>();

@@ -6,10 +6,13 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "graphslam/drivebot/run.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/support/error.h"
+#include "graphslam/types_drivebot/register.h"
 
 using namespace graphslam;
 using namespace graphslam::drivebot;
@@ -34,7 +37,7 @@ struct WindowRun {
 
 /// q2_c (four laps of the square, seven landmarks) with the laser and GPS, an incremental update
 /// every step, and the given window (none: the full history).
-WindowRun drive(const incremental::WindowOptions& window) {
+WindowRun drive(const incremental::WindowOptions& window, const RunOptions& options = {}) {
   SimulatorConfig sim;
   sim.enable_laser = true;
   sim.enable_gps = true;
@@ -47,7 +50,7 @@ WindowRun drive(const incremental::WindowOptions& window) {
   Simulator simulator(builtinScenario("q2_c"), sim);
   DriveBotSlamSystem system(allSolvers(), slam);
   WindowRun run;
-  run.result = runDriveBot(simulator, system, RunOptions{});
+  run.result = runDriveBot(simulator, system, options);
   run.marginalized = system.marginalizedCount();
   run.refused = system.refusedObservations();
   run.graph_vertices = system.graph().numVertices();
@@ -125,4 +128,45 @@ TEST(DriveBot_Window, RefusedWithTheBatchOptimizer) {
   slam.incremental = false;
   slam.incremental_options.window = window(100);
   EXPECT_THROW(DriveBotSlamSystem(allSolvers(), slam), Error);
+}
+
+// A run resumed from the last checkpoint of another reaches its estimates bit for bit.
+TEST(DriveBot_Window, ResumedRunEqualsTheOneThatWroteTheCheckpoint) {
+  TypeRegistry types;
+  types_drivebot::registerTypes(types);
+  const std::string path = ::testing::TempDir() + "drivebot_window.ck";
+  incremental::WindowOptions w = window(100);
+  w.keep_landmarks = true;
+  RunOptions options;
+  options.checkpoint_path = path;
+  options.checkpoint_every = 700;
+  options.types = &types;
+  options.settings = "q2_c seed 3";
+  const WindowRun first = drive(w, options);
+  ASSERT_FALSE(first.result.failed) << first.result.failure.message;
+  RunOptions resume = options;
+  resume.checkpoint_every = 0;
+  resume.checkpoint_path.clear();
+  resume.resume_path = path;
+  const WindowRun resumed = drive(w, resume);
+  ASSERT_FALSE(resumed.result.failed) << resumed.result.failure.message;
+  ASSERT_EQ(resumed.result.history.x.size(), first.result.history.x.size());
+  for (std::size_t k = 0; k < first.result.history.x.size(); ++k) {
+    ASSERT_EQ(resumed.result.history.x[k], first.result.history.x[k]) << "state " << k;
+    ASSERT_EQ(resumed.result.steps[k].online, first.result.steps[k].online) << "step " << k;
+  }
+  EXPECT_EQ(resumed.marginalized, first.marginalized);
+  // Other settings: refused, naming the file.
+  resume.settings = "q2_c seed 4";
+  try {
+    (void)drive(w, resume);
+    FAIL() << "resumed under other settings";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("drivebot_window.ck: checkpoint refused: it was written by "
+                                   "a run with other settings"),
+        std::string::npos)
+        << e.what();
+  }
+  std::remove(path.c_str());
 }

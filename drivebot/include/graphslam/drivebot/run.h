@@ -52,6 +52,27 @@ struct RunOptions {
   bool snapshot_loop_closure = false;
   /// Called after every step (progress output is the caller's business).
   std::function<void(const StepRecord&)> progress;
+
+  /// Checkpoints (DriveBotSlamSystem::saveCheckpoint, with the run's records so far) are
+  /// written to checkpoint_path at the first step that optimised once checkpoint_every
+  /// steps have passed since the last one (0: none). Need `types`; not with
+  /// snapshot_loop_closure.
+  std::string checkpoint_path;
+  long checkpoint_every = 0;
+  /// Continue a run from this checkpoint (written by a run with the same scenario,
+  /// simulator and system settings): the system is loaded from it, the simulator (which
+  /// does not depend on the estimates; deterministic for its seed) is stepped forward to the
+  /// step after it, and the records before it come from the file. The run then reaches the
+  /// estimates of the run that wrote it, bit for bit. Needs `types`.
+  std::string resume_path;
+  const TypeRegistry* types = nullptr;
+  /// Saved with every checkpoint and compared on resuming, which refuses a checkpoint
+  /// written with other settings: whatever decides the run (the tool passes its settings).
+  std::string settings;
+  /// The caller's own state, saved with a checkpoint (what on_checkpoint returns) and given
+  /// back on resuming (on_resume): the tool's --marginalised-out length.
+  std::function<std::string()> on_checkpoint;
+  std::function<void(const std::string&)> on_resume;
 };
 
 /// Estimates around a loop closure.
@@ -104,7 +125,8 @@ struct RunResult {
 /// optimises if it recommends it, then the truth is recorded and the simulator steps. After
 /// the loop: one more optimisation (final_iterations), the vehicle history with marginal
 /// covariance diagonals and the landmark estimates with covariances. Stops at the first
-/// optimisation that fails (RunResult::failed, the summary says why).
+/// optimisation that fails (RunResult::failed, the summary says why). Throws
+/// graphslam::InputError for a checkpoint that cannot be resumed (RunOptions::resume_path).
 [[nodiscard]] RunResult runDriveBot(Simulator& simulator, DriveBotSlamSystem& system,
                                     const RunOptions& options);
 

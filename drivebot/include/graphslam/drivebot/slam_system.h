@@ -13,6 +13,7 @@
 
 #include "graphslam/core/graph.h"
 #include "graphslam/core/linear_solver.h"
+#include "graphslam/core/type_registry.h"
 #include "graphslam/diagnostics/graph_checks.h"
 #include "graphslam/drivebot/events.h"
 #include "graphslam/incremental/incremental_optimizer.h"
@@ -232,6 +233,20 @@ class DriveBotSlamSystem {
   /// Landmarks in `events` seen before whose previous sighting was at least
   /// loop_closure_gap steps ago (what would close a loop if these events were processed).
   [[nodiscard]] std::vector<int> loopClosureLandmarks(const std::vector<Event>& events) const;
+
+  /// Saves the system (the incremental optimizer's checkpoint: graph, window, estimates;
+  /// and the system's own state) to `path`, atomically, with the caller's `note`; after an
+  /// optimize() (the incremental optimizer's condition). A system that loads it and gets
+  /// the same events after it reaches bit-identical estimates, as the system that saved it
+  /// does (saving makes its next update eliminate afresh). Throws graphslam::Error without
+  /// the incremental optimizer.
+  void saveCheckpoint(const std::string& path, const TypeRegistry& types,
+                      const std::string& note = {});
+  /// Loads a checkpoint into this system, which must have seen no event and have the
+  /// options it was saved with; returns the note. Throws graphslam::InputError naming the
+  /// file and what is wrong (incremental::IncrementalOptimizer::loadCheckpoint's refusals,
+  /// or not a DriveBot system's checkpoint).
+  std::string loadCheckpoint(const std::string& path, const TypeRegistry& types);
 
   [[nodiscard]] GraphStatistics statistics() const;
   /// Describes vertex ids in DriveBot terms ("vehicle vertices 1-20 (t = 0.1-2.0 s)",
