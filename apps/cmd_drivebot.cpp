@@ -512,7 +512,8 @@ int cmdDrivebot(const std::vector<std::string>& args) {
   printDrivebotReport(scenario, result, setup.sim.enable_laser);
   printWindowReport(system);
   // A window's graph holds its marginalisation priors, which .g2o has no line for.
-  const Graph window_graph = system.windowed() ? withoutPriors(system.graph(), reg.types) : Graph();
+  const Graph window_graph =
+      system.windowed() ? incremental::copyWithoutPriors(system.graph(), reg.types) : Graph();
   const Graph& final_graph = system.windowed() ? window_graph : system.graph();
   writeDrivebotResults(outputs.staged(), scenario, result, final_graph, reg.types);
   if (vm.count("plot")) {

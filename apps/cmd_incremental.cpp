@@ -360,7 +360,8 @@ int cmdIncremental(const std::vector<std::string>& args) {
     return outputs.writeAll([&] {
       if (!o.stats.empty()) writeStepsCsv(outputs.staged(o.stats), r, checks, rss);
       if (!o.output.empty()) {
-        io::saveG2o(outputs.staged(o.output), withoutPriors(replayed, reg.types), reg.types);
+        io::saveG2o(outputs.staged(o.output), incremental::copyWithoutPriors(replayed, reg.types),
+                    reg.types);
         std::printf("wrote %s\n", o.output.c_str());
       }
       if (!o.plot.empty()) plotSteps(outputs.staged(o.plot), o.plot, o, r, checks, batch);

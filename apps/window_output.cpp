@@ -5,8 +5,6 @@
 #include <filesystem>
 
 #include "cli_common.h"
-#include "graphslam/core/graph_copy.h"
-#include "graphslam/incremental/linear_prior_edge.h"
 #include "graphslam/support/error.h"
 #include "graphslam/support/file_util.h"
 
@@ -111,19 +109,6 @@ void checkWindowOptions(const incremental::WindowOptions& window,
         "--reinitialise-landmarks and --keep-landmarks exclude each other (a kept landmark "
         "never leaves)");
   }
-}
-
-Graph withoutPriors(const Graph& graph, const TypeRegistry& types) {
-  Graph copy;
-  for (const auto& [id, p] : graph.parameters())
-    copy.addParameter(incremental::copyParameter(*p, types));
-  for (const auto& [id, v] : graph.vertices()) copy.addVertex(incremental::copyVertex(*v, types));
-  for (const auto& e : graph.edges()) {
-    if (dynamic_cast<const incremental::LinearPriorEdge*>(e.get())) continue;
-    Edge& c = copy.addEdge(incremental::copyEdge(*e, types));
-    if (!e->active()) copy.setEdgeActive(c, false);
-  }
-  return copy;
 }
 
 }  // namespace graphslam::apps

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // What the fixed-lag window and checkpoints need in the tool (incremental, drivebot): the
-// --marginalised-out file and the graph written without the marginalisation priors.
+// --marginalised-out file and the window's options.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -10,6 +10,7 @@
 #include "graphslam/core/graph.h"
 #include "graphslam/core/type_registry.h"
 #include "graphslam/incremental/incremental_optimizer.h"
+#include "graphslam/incremental/linear_prior_edge.h"
 
 namespace graphslam::apps {
 
@@ -48,9 +49,5 @@ void addWindowOptions(boost::program_options::options_description& desc,
 /// Refuses (UsageError) a combination of them that means nothing.
 void checkWindowOptions(const incremental::WindowOptions& window,
                         const std::string& marginalised_out);
-
-/// A copy of `graph` without its marginalisation priors (incremental::LinearPriorEdge, which
-/// `.g2o` has no line for), to write the window's graph.
-[[nodiscard]] Graph withoutPriors(const Graph& graph, const TypeRegistry& types);
 
 }  // namespace graphslam::apps

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <set>
 
+#include "graphslam/core/graph_copy.h"
 #include "graphslam/support/error.h"
 
 namespace graphslam::incremental {
@@ -275,6 +276,18 @@ Marginalization marginalizeVertices(Graph& graph, const std::vector<VertexId>& l
   for (VertexId id : leaving) graph.removeVertex(id);
   if (prior) graph.addEdge(std::move(prior));
   return result;
+}
+
+Graph copyWithoutPriors(const Graph& graph, const TypeRegistry& types) {
+  Graph copy;
+  for (const auto& [id, p] : graph.parameters()) copy.addParameter(copyParameter(*p, types));
+  for (const auto& [id, v] : graph.vertices()) copy.addVertex(copyVertex(*v, types));
+  for (const auto& e : graph.edges()) {
+    if (dynamic_cast<const LinearPriorEdge*>(e.get())) continue;
+    Edge& c = copy.addEdge(copyEdge(*e, types));
+    if (!e->active()) copy.setEdgeActive(c, false);
+  }
+  return copy;
 }
 
 }  // namespace graphslam::incremental

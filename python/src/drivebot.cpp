@@ -4,12 +4,15 @@
 // optimise; the run's records as numpy arrays and its graph as a graphslam.Graph.
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 #include "common.h"
 #include "graphslam/core/graph_copy.h"
 #include "graphslam/drivebot/run.h"
 #include "graphslam/drivebot/scenario.h"
 #include "graphslam/drivebot/simulator.h"
 #include "graphslam/drivebot/slam_system.h"
+#include "graphslam/incremental/linear_prior_edge.h"
 
 namespace graphslam::python {
 
@@ -47,9 +50,30 @@ py::dict stepArrays(const std::vector<StepRecord>& steps) {
   return d;
 }
 
+/// The fixed-lag window of run()'s arguments; `policy` says what becomes of landmarks.
+incremental::WindowOptions windowOptions(std::size_t states, std::size_t slack, double seconds,
+                                         const std::string& policy) {
+  if (!(seconds >= 0 && std::isfinite(seconds))) {
+    throw py::value_error("window_seconds must be a finite number >= 0 (0: off)");
+  }
+  incremental::WindowOptions w;
+  w.states = states;
+  w.slack = slack;
+  w.seconds = seconds;
+  if (policy == "anew") {
+    w.reinitialize_landmarks = true;
+  } else if (policy == "keep") {
+    w.keep_landmarks = true;
+  } else if (policy != "leave") {
+    throw py::value_error("landmarks is 'leave', 'anew' or 'keep', not '" + policy + "'");
+  }
+  return w;
+}
+
 py::object run(const std::string& scenario, const std::string& data_dir, std::uint64_t seed,
                const std::vector<std::string>& sensors, int optimize_every, long max_steps,
-               int final_iterations, const std::string& optimizer) {
+               int final_iterations, const std::string& optimizer, std::size_t window,
+               std::size_t window_slack, double window_seconds, const std::string& policy) {
   if (optimize_every < 0 || final_iterations < 0) {
     throw py::value_error("optimize_every and final_iterations must be >= 0");
   }
@@ -74,6 +98,7 @@ py::object run(const std::string& scenario, const std::string& data_dir, std::ui
   SlamSystemOptions slam;
   slam.optimize_every = optimize_every;
   slam.incremental = optimizer == "incremental";
+  slam.incremental_options.window = windowOptions(window, window_slack, window_seconds, policy);
   RunOptions options;
   options.final_iterations = final_iterations;
   Simulator simulator(findScenario(scenario, data_dir), sim);
@@ -91,6 +116,8 @@ py::object run(const std::string& scenario, const std::string& data_dir, std::ui
   d["final_chi2"] = r.final_summary.final_chi2;
   d["optimizations"] = r.optimizations;
   d["optimization_time"] = r.total_optimization_time;
+  d["marginalized"] = system.marginalizedCount();
+  d["refused_observations"] = system.refusedObservations();
   d["history"] = rows3(r.history.x);
   d["history_variance"] = rows3(r.history.variance);
   std::vector<VertexId> ids;
@@ -108,7 +135,7 @@ py::object run(const std::string& scenario, const std::string& data_dir, std::ui
   d["landmarks"] = landmarks;
   d["landmark_covariances"] = covariances;
   auto g = std::make_shared<PyGraph>();
-  g->graph = incremental::copyGraph(system.graph(), registries().types);
+  g->graph = incremental::copyWithoutPriors(system.graph(), registries().types);
   d["graph"] = g;
   static const auto* ns = new py::object(py::module_::import("types").attr("SimpleNamespace"));
   return (*ns)(**d);
@@ -123,7 +150,8 @@ void bindDrivebot(py::module_& m) {
   db.def("run", &run, py::arg("scenario") = "q1_b", py::arg("data_dir") = "", py::arg("seed") = 0,
          py::arg("sensors") = std::vector<std::string>{}, py::arg("optimize_every") = 0,
          py::arg("max_steps") = 1L << 40, py::arg("final_iterations") = 20,
-         py::arg("optimizer") = "incremental",
+         py::arg("optimizer") = "incremental", py::arg("window") = 0, py::arg("window_slack") = 0,
+         py::arg("window_seconds") = 0.0, py::arg("landmarks") = "leave",
          "Simulates the vehicle through `scenario` (a built-in name, a folder with x0.txt, wp.txt "
          "and lm.txt, or a name under data_dir) with odometry and the `sensors` (gps, compass, "
          "laser), runs the online SLAM system (optimising every `optimize_every` steps, 0: at "
@@ -133,7 +161,14 @@ void bindDrivebot(py::module_& m) {
          "time, truth "
          "(N, 3), online (N, 3), optimized, chi2), failed, message, final_chi2, optimizations, "
          "optimization_time, history (the smoothed vehicle poses), history_variance, "
-         "landmark_ids, landmarks (L, 2), landmark_covariances (L, 2, 2) and the graph.");
+         "landmark_ids, landmarks (L, 2), landmark_covariances (L, 2, 2) and the graph. "
+         "`window` (vehicle states) or `window_seconds` make the system a fixed-lag smoother "
+         "(the tool's --window, --window-slack, --window-seconds; docs/DRIVEBOT.md): history "
+         "then holds each state as it left the window (its variance NaN), `landmarks` says what "
+         "becomes of a landmark whose observers all left (\"leave\": later sightings dropped, "
+         "counted in refused_observations; \"anew\": started again; \"keep\": it stays), "
+         "marginalized counts the vertices that left, and graph is the window's (without its "
+         "marginalisation priors).");
 }
 
 }  // namespace graphslam::python

@@ -34,3 +34,21 @@ def test_unknown_optimizer_is_refused():
     import pytest
     with pytest.raises(ValueError, match="'incremental' or 'batch'"):
         graphslam.drivebot.run("q1_b", max_steps=10, optimizer="isam")
+
+
+def test_fixed_lag_window_keeps_the_map():
+    """window=N: the states leave (history as they left, variance NaN), landmarks kept."""
+    import pytest
+    r = graphslam.drivebot.run("q2_b", sensors=["gps", "laser"], seed=2, optimize_every=1,
+                               window=100, window_slack=20, landmarks="keep")
+    assert not r.failed, r.message
+    n = len(r.history)
+    assert r.marginalized > n - 130
+    assert r.refused_observations == 0
+    assert np.isnan(r.history_variance[0]).all() and (r.history_variance[-1] > 0).all()
+    assert r.graph.counts()["VERTEX_VEHICLE"] <= 120
+    assert len(r.landmark_ids) == 7
+    err = np.linalg.norm(r.history[:, :2] - r.steps["truth"][:n, :2], axis=1)
+    assert err.mean() < 1.0, err.mean()
+    with pytest.raises(ValueError, match="'leave', 'anew' or 'keep'"):
+        graphslam.drivebot.run("q1_b", max_steps=10, window=5, landmarks="forget")

@@ -6,6 +6,7 @@
 
 #include "graphslam/core/base_multi_edge.h"
 #include "graphslam/core/graph.h"
+#include "graphslam/core/type_registry.h"
 
 namespace graphslam::incremental {
 
@@ -73,5 +74,9 @@ struct Marginalization {
 /// unknown id or a separator vertex whose type has no Vertex::minus (the graph unchanged).
 Marginalization marginalizeVertices(Graph& graph, const std::vector<VertexId>& leaving,
                                     double rank_tolerance = 1e-12);
+
+/// A copy of `graph` (graph_copy.h) without its marginalisation priors, which no file
+/// format has a line for: to write or hand out a window's graph.
+[[nodiscard]] Graph copyWithoutPriors(const Graph& graph, const TypeRegistry& types);
 
 }  // namespace graphslam::incremental
