@@ -312,9 +312,10 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
 // CHOLMOD's factor switching between complex and real values, and solves the positions'
 // two components in one pass. Alternating the two kinds (and a general block system
 // between them) gives every solution right.
-TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneAnalysis) {
+// `options` decide whether CHOLMOD's inner factor is supernodal or simplicial.
+void checkComplexAndIsotropicValuesShareOneAnalysis(const solvers::SolverOptions& options) {
   SolverRegistry registry;
-  solvers::registerSolvers(registry, supernodalEverywhere());
+  solvers::registerSolvers(registry, options);
   if (!registry.contains("cholmod")) GTEST_SKIP() << "the complex path needs CHOLMOD";
   const GridPattern grid(120);  // 14400 blocks of 2x2
   const GridOfPairs pairs(grid);
@@ -362,6 +363,24 @@ TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneAnalysis) {
   const std::size_t isotropic_nnz = solver->factorNonZeros();
   ASSERT_TRUE(solver->factorize(conformal.data()).ok());
   EXPECT_GT(solver->factorNonZeros(), isotropic_nnz);
+}
+
+TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneAnalysis) {
+  checkComplexAndIsotropicValuesShareOneAnalysis(supernodalEverywhere());
+}
+
+// The same with CHOLMOD's simplicial factor inside (the scalar paths' own model predicts
+// the supernodal one slower for systems this small): its factor switches kinds too.
+TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneSimplicialAnalysis) {
+  auto model = std::make_shared<solvers::CostModel>(solvers::CostModel::builtIn());
+  model->block_llt[1] = solvers::CostLine{1.0, 0.0, 0.0};  // the 2x2 plan: CHOLMOD
+  model->eigen_ldlt = solvers::CostLine{1.0, 0.0, 0.0};
+  model->cholmod_supernodal = solvers::CostLine{0.0, 1e-5, 1e-15};
+  model->block_llt[0] =
+      solvers::CostLine{0.0, 0.0, 1e-9};  // supernodal from 1e4 flops per unknown
+  solvers::SolverOptions options;
+  options.auto_solver.cost_model = model;
+  checkComplexAndIsotropicValuesShareOneAnalysis(options);
 }
 
 // A block system the cost model sends to supernodal CHOLMOD makes `auto` ask for H in its
