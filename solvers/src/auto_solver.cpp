@@ -134,13 +134,15 @@ class AutoSolver final : public LinearSolver {
     // block that is not a multiple of I (at once for SE(2) poses).
     // Blocks [a -b; b a] (the orientations of the SE(2) initial guess) are a Hermitian
     // complex matrix: half the flops and half the memory of the 2x2 block factor.
-    // Where the complex path may be taken, the scalar one shares its analysis (one solver
-    // for both: the SE(2) initial guess's two systems have one pattern).
+    // Once the complex path was taken, the scalar one shares its analysis (one solver for
+    // both: the SE(2) initial guess's orientation system, then its position system, of one
+    // pattern); a system that only ever has isotropic values keeps the scalar path's own
+    // choices (a dense tail's BLAS loop among them).
     active_ = nullptr;
     path_ = nullptr;
     const auto make_two_way = [this](Ordering o) { return makeTwoWayIsotropicSolver(o, options_); };
     if (may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0) {
-      if (may_be_conformal_) {
+      if (conformal_) {
         path_ = " (isotropic path, on the complex path's analysis)";
         return factorizeWith(conformal_, make_two_way, values);
       }
@@ -227,8 +229,8 @@ class AutoSolver final : public LinearSolver {
   SparseStructure planned_for_;     // the structure plan_ was made for (n = 0: none)
   // The backend (block-llt, eigen-ldlt or cholmod) and the scalar and complex paths for
   // isotropic and conformal values, each made and analysed at its first use with the
-  // same ordering (where the complex path may be taken, conformal_ is a two-way solver
-  // taking the isotropic values too); active_ is the one of the last factorisation.
+  // same ordering (conformal_ is a two-way solver, which takes the isotropic values too
+  // once it exists); active_ is the one of the last factorisation.
   std::function<std::unique_ptr<detail::OrderedSolver>(Ordering)> make_backend_;
   std::unique_ptr<detail::OrderedSolver> backend_;
   SparseStructure structure_;

@@ -310,8 +310,9 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
 // The SE(2) initial guess's two systems (orientations: blocks [a -b; b a]; positions:
 // H_s (x) I_2) have one pattern: `auto` factorises both with one solver on one analysis,
 // CHOLMOD's factor switching between complex and real values, and solves the positions'
-// two components in one pass. Alternating the two kinds (and a general block system
-// between them) gives every solution right.
+// two components in one pass, once the complex path was taken (a system with only
+// isotropic values keeps the scalar path's own solver). Alternating the two kinds (and a
+// general block system between them) gives every solution right.
 // `options` decide whether CHOLMOD's inner factor is supernodal or simplicial.
 void checkComplexAndIsotropicValuesShareOneAnalysis(const solvers::SolverOptions& options) {
   SolverRegistry registry;
@@ -340,7 +341,9 @@ void checkComplexAndIsotropicValuesShareOneAnalysis(const solvers::SolverOptions
   for (double& r : rhs) r = angle(rng);
   auto solver = registry.create("auto");
   ASSERT_TRUE(solver->analyze(s).ok());
+  // Isotropic values before any complex ones: the scalar path's own solver.
   const std::vector<std::pair<const std::vector<double>*, const char*>> cases = {
+      {&isotropic, "(isotropic path)"},
       {&conformal, "(complex path)"},
       {&isotropic, "(isotropic path, on the complex path's analysis)"},
       {&conformal, "(complex path)"},
@@ -376,8 +379,7 @@ TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneSimplicialAnalysis) {
   model->block_llt[1] = solvers::CostLine{1.0, 0.0, 0.0};  // the 2x2 plan: CHOLMOD
   model->eigen_ldlt = solvers::CostLine{1.0, 0.0, 0.0};
   model->cholmod_supernodal = solvers::CostLine{0.0, 1e-5, 1e-15};
-  model->block_llt[0] =
-      solvers::CostLine{0.0, 0.0, 1e-9};  // supernodal from 1e4 flops per unknown
+  model->block_llt[0] = solvers::CostLine{0.0, 0.0, 1e-9};  // supernodal from 1e4 flops per unknown
   solvers::SolverOptions options;
   options.auto_solver.cost_model = model;
   checkComplexAndIsotropicValuesShareOneAnalysis(options);
