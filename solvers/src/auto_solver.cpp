@@ -49,8 +49,7 @@ class AutoSolver final : public LinearSolver {
     std::snprintf(buf, sizeof buf, "auto: %s:%s, predicted nnz(L) %.0f, %.3g flops", backend_name_,
                   toString(label_), cost_.factor_nonzeros, cost_.flops);
     std::string name = buf;
-    if (active_ && active_ == isotropic_.get()) name += " (isotropic path)";
-    if (active_ && active_ == conformal_.get()) name += " (complex path)";
+    if (active_ && path_) name += path_;
     return name;
   }
   Ordering ordering() const override { return analyzed_ ? label_ : Ordering::kDefault; }
@@ -119,8 +118,8 @@ class AutoSolver final : public LinearSolver {
     may_be_isotropic_ = s.num_blocks > 0 && s.block_starts[1] - s.block_starts[0] > 1 &&
                         maxBlockSize(s) == s.block_starts[1] - s.block_starts[0];
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
-    may_be_conformal_ =
-        may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2 && plan_.supernodal;
+    may_be_conformal_ = may_be_isotropic_ && s.block_starts[1] - s.block_starts[0] == 2 &&
+                        (plan_.supernodal || complexPathPays(s.n, plan_.chosen.prediction.flops));
 #endif
     // Each path's own analysis (the backend's too) is made at its first factorisation:
     // a system that always takes the scalar or complex path never pays for the other.
@@ -135,14 +134,25 @@ class AutoSolver final : public LinearSolver {
     // block that is not a multiple of I (at once for SE(2) poses).
     // Blocks [a -b; b a] (the orientations of the SE(2) initial guess) are a Hermitian
     // complex matrix: half the flops and half the memory of the 2x2 block factor.
+    // Once the complex path was taken, the scalar one shares its analysis (one solver for
+    // both: the SE(2) initial guess's orientation system, then its position system, of one
+    // pattern); a system that only ever has isotropic values keeps the scalar path's own
+    // choices (a dense tail's BLAS loop among them).
     active_ = nullptr;
+    path_ = nullptr;
+    const auto make_two_way = [this](Ordering o) { return makeTwoWayIsotropicSolver(o, options_); };
     if (may_be_isotropic_ && detail::firstNonIsotropicColumn(structure_, values) < 0) {
+      if (conformal_) {
+        path_ = " (isotropic path, on the complex path's analysis)";
+        return factorizeWith(conformal_, make_two_way, values);
+      }
+      path_ = " (isotropic path)";
       return factorizeWith(
           isotropic_, [this](Ordering o) { return makeIsotropicSolver(o, options_); }, values);
     }
     if (may_be_conformal_ && detail::firstNonConformalColumn(structure_, values) < 0) {
-      return factorizeWith(
-          conformal_, [this](Ordering o) { return makeConformalSolver(o, options_); }, values);
+      path_ = " (complex path)";
+      return factorizeWith(conformal_, make_two_way, values);
     }
     return factorizeWith(backend_, make_backend_, values);
   }
@@ -186,6 +196,17 @@ class AutoSolver final : public LinearSolver {
            a.block_starts == b.block_starts && a.num_blocks == b.num_blocks && a.lower == b.lower &&
            a.nnz() == b.nnz();
   }
+  /// Whether the cost model predicts CHOLMOD's complex factorisation of a conformal system
+  /// (n/2 complex unknowns; half the flops of its 2x2 block factor, `flops`, in real
+  /// multiply-adds) faster than the backend chosen for the block system.
+  [[nodiscard]] bool complexPathPays(int n, double flops) const {
+    const CostModel& model = detail::costModel(options_.auto_solver);
+    const FactorBackend chosen =
+        plan_.blocks ? FactorBackend::kBlockLlt : FactorBackend::kEigenLdlt;
+    const double complex_seconds =
+        model.predict(FactorBackend::kCholmodSupernodal, 1, 0.5 * n, 0.5 * flops);
+    return flops > 0.0 && complex_seconds < model.predict(chosen, 2, n, flops);
+  }
   void plan(const SparseStructure& s, const detail::BlockGraph& g) {
     // Small systems are not predicted exactly here: name() asks the backend's analysis.
     plan_.chosen =
@@ -208,7 +229,8 @@ class AutoSolver final : public LinearSolver {
   SparseStructure planned_for_;     // the structure plan_ was made for (n = 0: none)
   // The backend (block-llt, eigen-ldlt or cholmod) and the scalar and complex paths for
   // isotropic and conformal values, each made and analysed at its first use with the
-  // same ordering; active_ is the one of the last factorisation.
+  // same ordering (conformal_ is a two-way solver, which takes the isotropic values too
+  // once it exists); active_ is the one of the last factorisation.
   std::function<std::unique_ptr<detail::OrderedSolver>(Ordering)> make_backend_;
   std::unique_ptr<detail::OrderedSolver> backend_;
   SparseStructure structure_;
@@ -218,6 +240,7 @@ class AutoSolver final : public LinearSolver {
   bool may_be_conformal_ = false;
   std::unique_ptr<detail::OrderedSolver> isotropic_, conformal_;
   LinearSolver* active_ = nullptr;
+  const char* path_ = nullptr;  // the isotropic or the complex path when active_ is one
 };
 
 }  // namespace

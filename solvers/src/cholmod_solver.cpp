@@ -136,9 +136,23 @@ class CholmodSolver final : public detail::OrderedSolver {
   }
 
   LinearSolverResult solve(const double* rhs, double* x) override {
+    return solveColumns(rhs, x, n_, 1);
+  }
+
+  /// A pre-permuted supernodal factor solves every column in one pass over L (L is read
+  /// once, not once per column); otherwise one column at a time.
+  LinearSolverResult solveColumns(const double* rhs, double* x, int n, int columns) override {
     if (!factor_ || factor_->xtype == CHOLMOD_PATTERN)
       return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not factorised");
-    const std::size_t len = static_cast<std::size_t>(n_) * static_cast<std::size_t>(scalars_);
+    if (n != n_ || columns < 1) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         "cholmod: right-hand sides of the wrong size");
+    }
+    if (columns > 1 && !(prepermuted_lower_ && factor_->is_super)) {
+      return OrderedSolver::solveColumns(rhs, x, n, columns);
+    }
+    const std::size_t len = static_cast<std::size_t>(n_) * static_cast<std::size_t>(scalars_) *
+                            static_cast<std::size_t>(columns);
     const detail::SerialOpenMp serial;
     const double* sol = x;
     if (prepermuted_lower_ && factor_->is_super) {
@@ -147,14 +161,16 @@ class CholmodSolver final : public detail::OrderedSolver {
       if (x != rhs) std::memmove(x, rhs, sizeof(double) * len);
       cholmod_dense in_place{};
       in_place.nrow = a_.nrow;
-      in_place.ncol = 1;
-      in_place.nzmax = a_.nrow;
+      in_place.ncol = static_cast<std::size_t>(columns);
+      in_place.nzmax = a_.nrow * static_cast<std::size_t>(columns);
       in_place.d = a_.nrow;
       in_place.x = x;
       in_place.xtype = xtype_;
       in_place.dtype = CHOLMOD_DOUBLE;
-      if (!e_)
-        e_ = cholmod_allocate_dense(factor_->maxesize, 1, factor_->maxesize, xtype_, &common_);
+      // CHOLMOD's workspace: the largest supernode's rows for every column.
+      const std::size_t e_size = factor_->maxesize * static_cast<std::size_t>(columns);
+      if (e_ && e_->nzmax < e_size) cholmod_free_dense(&e_, &common_);
+      if (!e_) e_ = cholmod_allocate_dense(e_size, 1, e_size, xtype_, &common_);
       if (!e_ || !cholmod_super_lsolve(factor_, &in_place, e_, &common_) ||
           !cholmod_super_ltsolve(factor_, &in_place, e_, &common_)) {
         return LinearSolverResult::failure(LinearSolverStatus::kFailure, "cholmod_solve failed");
@@ -177,6 +193,23 @@ class CholmodSolver final : public detail::OrderedSolver {
       x[i] = sol[i];
     }
     return LinearSolverResult::success();
+  }
+
+  /// Real and complex values share the symbolic analysis (the same supernodes): switching
+  /// drops the numeric factor of the other kind (CHOLMOD frees its values and keeps the
+  /// symbolic factor) and the solve's workspaces.
+  bool setComplexValues(bool complex) override {
+    const int xtype = complex ? CHOLMOD_COMPLEX : CHOLMOD_REAL;
+    if (xtype == xtype_) return true;
+    if (factor_ && factor_->xtype != CHOLMOD_PATTERN &&
+        !cholmod_change_factor(CHOLMOD_PATTERN, common_.final_ll, factor_->is_super, 1, 1, factor_,
+                               &common_)) {
+      return false;
+    }
+    freeDense();
+    xtype_ = xtype;
+    scalars_ = complex ? 2 : 1;
+    return true;
   }
 
   std::size_t factorNonZeros() const override {

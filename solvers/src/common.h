@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -120,6 +121,21 @@ class OrderedSolver : public LinearSolver {
   /// them there (as symbolicCost() would: same non-zeros and flops).
   [[nodiscard]] virtual std::optional<CholeskyPrediction> analysedCost() const {
     return std::nullopt;
+  }
+  /// Makes the next factorisations take complex values (a Hermitian matrix, interleaved
+  /// (re, im)) or real ones, keeping the symbolic analysis; the factor of the other kind is
+  /// dropped. False when the solver takes one kind only (the default).
+  [[nodiscard]] virtual bool setComplexValues(bool /*complex*/) { return false; }
+  /// Solves for `columns` right-hand sides of n unknowns at once (column-major, one after
+  /// the other in rhs and x). By default one solve per column.
+  [[nodiscard]] virtual LinearSolverResult solveColumns(const double* rhs, double* x, int n,
+                                                        int columns) {
+    for (int k = 0; k < columns; ++k) {
+      const std::size_t at = static_cast<std::size_t>(k) * static_cast<std::size_t>(n);
+      const LinearSolverResult r = solve(rhs + at, x + at);
+      if (!r.ok()) return r;
+    }
+    return LinearSolverResult::success();
   }
   /// The block orderings analyze() looks up and keeps (null, the default: none).
   void setOrderingCache(std::shared_ptr<OrderingCache> cache) {

@@ -22,6 +22,10 @@ std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering,
                                                            const SolverOptions& options);
 std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering,
                                                            const SolverOptions& options);
+/// Both paths on one analysis (vertices of dimension 2): each factorisation takes the
+/// isotropic path when its values allow, else the conformal one.
+std::unique_ptr<detail::OrderedSolver> makeTwoWayIsotropicSolver(Ordering ordering,
+                                                                 const SolverOptions& options);
 std::unique_ptr<detail::OrderedSolver> makeEnvelopeSolver(Ordering ordering);
 std::unique_ptr<LinearSolver> makePcgSolver();
 

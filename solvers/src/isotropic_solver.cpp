@@ -14,6 +14,11 @@
 // orientation system of the SE(2) initial guess (chordal relaxation: rotations as unit
 // vectors, an edge asks r_j = R r_i) has this form. CHOLMOD factorises M as a complex
 // matrix: half the memory of the 2x2 block factor and half its flops.
+//
+// A two-way solver takes both kinds of values on one analysis: the orientation and the
+// position systems of the SE(2) initial guess have one pattern, so B's layout, its order
+// and CHOLMOD's symbolic factor serve both (CHOLMOD's factor switches between complex and
+// real values); the d components of an isotropic right-hand side are solved in one pass.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,21 +47,29 @@ constexpr double kRelativeTolerance = 1e-12;
 
 class IsotropicSolver final : public detail::OrderedSolver {
  public:
-  IsotropicSolver(Ordering ordering, bool conformal, const SolverOptions& options)
+  /// `conformal`: takes blocks [a -b; b a]; `isotropic`: takes H_s (x) I_d (both: a
+  /// two-way solver, vertices of dimension 2).
+  IsotropicSolver(Ordering ordering, bool conformal, bool isotropic, const SolverOptions& options)
       : ordering_(ordering),
         conformal_(conformal),
+        isotropic_(isotropic),
+        complex_values_(conformal),
         options_(options.isotropic),
         model_(options.auto_solver.cost_model),
         cholmod_options_(options.cholmod),
         block_options_(options.block_cholesky) {}
 
-  std::string name() const override { return conformal_ ? "conformal" : "isotropic"; }
+  std::string name() const override {
+    if (conformal_ && isotropic_) return "conformal and isotropic";
+    return conformal_ ? "conformal" : "isotropic";
+  }
   Ordering ordering() const override { return ordering_; }
 
   LinearSolverResult analyzeOrdered(const SparseStructure& s, std::vector<int> order,
                                     Ordering label) override {
     ordering_ = label;
     inner_.reset();
+    complex_values_ = conformal_;  // a conformal inner solver starts complex
 #ifdef GRAPHSLAM_HAVE_LAPACK
     tail_ = nullptr;
 #endif
@@ -174,7 +187,15 @@ class IsotropicSolver final : public detail::OrderedSolver {
 
   LinearSolverResult factorize(const double* h) override {
     if (!inner_) return LinearSolverResult::failure(LinearSolverStatus::kFailure, "not analysed");
-    if (conformal_) return factorizeConformal(h);
+    // A two-way solver takes isotropic values when they are, else conformal ones.
+    if (conformal_ && !(isotropic_ && detail::firstNonIsotropicColumn(h_, h) < 0)) {
+      return factorizeConformal(h);
+    }
+    if (conformal_ && !inner_->setComplexValues(false)) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         name() + ": the inner solver takes no real values");
+    }
+    complex_values_ = false;
     const int bad = detail::firstNonIsotropicColumn(h_, h);
     if (bad >= 0) {
       return LinearSolverResult::failure(
@@ -199,19 +220,23 @@ class IsotropicSolver final : public detail::OrderedSolver {
       return solveInterleaved(rhs, x, [this](double* b) { return tail_->solveInterleaved(b, d_); });
     }
 #endif
-    // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1.
-    const int per = conformal_ ? 2 : 1;  // doubles per unknown of B
-    const int solves = conformal_ ? 1 : d_;
-    b_.resize(static_cast<std::size_t>(nb_) * per);
-    y_.resize(static_cast<std::size_t>(nb_) * per);
-    for (int j = 0; j < solves; ++j) {
+    // H's unknowns (x_0, x_1) per vertex are the interleaved complex z = x_0 + i x_1;
+    // real values: the d components are d right-hand sides of B, one column each.
+    const int per = complex_values_ ? 2 : 1;  // doubles per unknown of B
+    const int columns = complex_values_ ? 1 : d_;
+    const std::size_t nb = static_cast<std::size_t>(nb_);
+    b_.resize(nb * per * columns);
+    y_.resize(nb * per * columns);
+    for (int j = 0; j < columns; ++j) {
       for (int k = 0; k < nb_; ++k) {
-        for (int t = 0; t < per; ++t) b_[k * per + t] = rhs[block_order_[k] * d_ + j + t];
+        for (int t = 0; t < per; ++t) b_[j * nb + k * per + t] = rhs[block_order_[k] * d_ + j + t];
       }
-      const LinearSolverResult r = inner_->solve(b_.data(), y_.data());
-      if (!r.ok()) return r;
+    }
+    const LinearSolverResult r = inner_->solveColumns(b_.data(), y_.data(), nb_, columns);
+    if (!r.ok()) return r;
+    for (int j = 0; j < columns; ++j) {
       for (int k = 0; k < nb_; ++k) {
-        for (int t = 0; t < per; ++t) x[block_order_[k] * d_ + j + t] = y_[k * per + t];
+        for (int t = 0; t < per; ++t) x[block_order_[k] * d_ + j + t] = y_[j * nb + k * per + t];
       }
     }
     return LinearSolverResult::success();
@@ -220,7 +245,7 @@ class IsotropicSolver final : public detail::OrderedSolver {
   std::size_t factorNonZeros() const override {
     if (!inner_) return 0;
     // Conformal: a complex entry is a 2x2 real block (3 entries on the diagonal).
-    if (conformal_) return inner_->factorNonZeros() * 4 - static_cast<std::size_t>(nb_);
+    if (complex_values_) return inner_->factorNonZeros() * 4 - static_cast<std::size_t>(nb_);
     // L = L_s (x) I_d: d entries per non-zero of L_s.
     return inner_->factorNonZeros() * static_cast<std::size_t>(d_);
   }
@@ -251,6 +276,11 @@ class IsotropicSolver final : public detail::OrderedSolver {
               std::to_string(bad - bad % 2 + 1) + " is not of the form [a -b; b a]",
           bad);
     }
+    if (isotropic_ && !inner_->setComplexValues(true)) {
+      return LinearSolverResult::failure(LinearSolverStatus::kFailure,
+                                         name() + ": the inner solver takes no complex values");
+    }
+    complex_values_ = true;
     // Entry (r, c) of M (a block of H's stored triangle): a + ib for H's block
     // [a -b; b a]; b is read from the block's (0, 1) entry (diagonal entries are real). An
     // entry the permutation moved to the other triangle is M(c, r) = conj(M(r, c)).
@@ -374,7 +404,9 @@ class IsotropicSolver final : public detail::OrderedSolver {
   }
 
   Ordering ordering_;
-  bool conformal_ = false;
+  bool conformal_ = false;       // takes conformal values (B's layout has their imaginary parts)
+  bool isotropic_ = true;        // takes isotropic values
+  bool complex_values_ = false;  // the last factorisation's values were conformal
   IsotropicSolverOptions options_;
   /// The flops above which the cost model predicts CHOLMOD's supernodal factorisation of a
   /// scalar system of n unknowns faster than block-llt's (infinite when never).
@@ -388,8 +420,8 @@ class IsotropicSolver final : public detail::OrderedSolver {
   }
 
   std::shared_ptr<const CostModel> model_;  // of the auto solver's options (null: built in)
-  CholmodOptions cholmod_options_;        // of a CHOLMOD inner solver
-  BlockCholeskyOptions block_options_;    // of a block-llt inner solver
+  CholmodOptions cholmod_options_;          // of a CHOLMOD inner solver
+  BlockCholeskyOptions block_options_;      // of a block-llt inner solver
   std::unique_ptr<detail::OrderedSolver> inner_;
 #ifdef GRAPHSLAM_HAVE_LAPACK
   detail::TailCholesky* tail_ = nullptr;  // inner_ when it is tail-llt
@@ -498,12 +530,17 @@ int firstNonConformalColumn(const SparseStructure& s, const double* h) {
 
 std::unique_ptr<detail::OrderedSolver> makeIsotropicSolver(Ordering ordering,
                                                            const SolverOptions& options) {
-  return std::make_unique<IsotropicSolver>(ordering, false, options);
+  return std::make_unique<IsotropicSolver>(ordering, false, true, options);
 }
 
 std::unique_ptr<detail::OrderedSolver> makeConformalSolver(Ordering ordering,
                                                            const SolverOptions& options) {
-  return std::make_unique<IsotropicSolver>(ordering, true, options);
+  return std::make_unique<IsotropicSolver>(ordering, true, false, options);
+}
+
+std::unique_ptr<detail::OrderedSolver> makeTwoWayIsotropicSolver(Ordering ordering,
+                                                                 const SolverOptions& options) {
+  return std::make_unique<IsotropicSolver>(ordering, true, true, options);
 }
 
 }  // namespace graphslam::solvers

@@ -35,6 +35,27 @@ solvers::SolverOptions supernodalEverywhere() {
   return options;
 }
 
+/// Values on the pattern of `pairs` (the 2x2 blocks of `grid`): each diagonal block
+/// diagonal(c) I (c the block column), each other block from off(v, len), which writes its
+/// (0, 0) and (1, 0) entries at v[0], v[1] and its (0, 1) and (1, 1) at v[len], v[len + 1].
+template <typename Diagonal, typename Off>
+std::vector<double> pairValues(const GridPattern& grid, const GridOfPairs& pairs,
+                               Diagonal&& diagonal, Off&& off) {
+  std::vector<double> values(pairs.row_idx.size(), 0.0);
+  for (int c = 0; c < grid.structure.n; ++c) {
+    const int len = pairs.col_ptr[2 * c + 1] - pairs.col_ptr[2 * c];
+    for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
+      double* v = values.data() + pairs.col_ptr[2 * c] + 2 * (k - grid.col_ptr[c]);
+      if (grid.row_idx[k] == c) {
+        v[0] = v[len + 1] = diagonal(c);
+      } else {
+        off(v, len);
+      }
+    }
+  }
+  return values;
+}
+
 /// Predicted factor size and work parsed from the auto solver's name after analyze().
 struct AutoChoice {
   std::string backend;
@@ -286,9 +307,87 @@ TEST(Solvers_Auto, LargeConformalSystemsTakeTheComplexPath) {
   std::printf("%s\n", solver->name().c_str());
 }
 
+// The SE(2) initial guess's two systems (orientations: blocks [a -b; b a]; positions:
+// H_s (x) I_2) have one pattern: `auto` factorises both with one solver on one analysis,
+// CHOLMOD's factor switching between complex and real values, and solves the positions'
+// two components in one pass, once the complex path was taken (a system with only
+// isotropic values keeps the scalar path's own solver). Alternating the two kinds (and a
+// general block system between them) gives every solution right.
+// `options` decide whether CHOLMOD's inner factor is supernodal or simplicial.
+void checkComplexAndIsotropicValuesShareOneAnalysis(const solvers::SolverOptions& options) {
+  SolverRegistry registry;
+  solvers::registerSolvers(registry, options);
+  if (!registry.contains("cholmod")) GTEST_SKIP() << "the complex path needs CHOLMOD";
+  const GridPattern grid(120);  // 14400 blocks of 2x2
+  const GridOfPairs pairs(grid);
+  const SparseStructure& s = pairs.structure;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  auto fill = [&](auto&& off) {
+    return pairValues(
+        grid, pairs, [](int c) { return 5.0 + 0.01 * (c % 7); }, off);
+  };
+  const std::vector<double> conformal = fill([&](double* v, int len) {
+    const double t = angle(rng);
+    v[0] = v[len + 1] = std::cos(t);
+    v[1] = std::sin(t);
+    v[len] = -std::sin(t);
+  });
+  const std::vector<double> isotropic =
+      fill([&](double* v, int len) { v[0] = v[len + 1] = -0.5 + 0.1 * angle(rng); });
+  std::vector<double> general = conformal;
+  general[pairs.col_ptr[2 * 100 + 1] - 2] = 5.5;  // vertex 100's diagonal block: diag(5.5, 5)
+  std::vector<double> rhs(static_cast<std::size_t>(s.n)), x(rhs.size());
+  for (double& r : rhs) r = angle(rng);
+  auto solver = registry.create("auto");
+  ASSERT_TRUE(solver->analyze(s).ok());
+  // Isotropic values before any complex ones: the scalar path's own solver.
+  const std::vector<std::pair<const std::vector<double>*, const char*>> cases = {
+      {&isotropic, "(isotropic path)"},
+      {&conformal, "(complex path)"},
+      {&isotropic, "(isotropic path, on the complex path's analysis)"},
+      {&conformal, "(complex path)"},
+      {&general, nullptr},
+      {&isotropic, "(isotropic path, on the complex path's analysis)"}};
+  for (const auto& [values, path] : cases) {
+    const LinearSolverResult f = solver->factorize(values->data());
+    ASSERT_TRUE(f.ok()) << solver->name() << ": " << f.message;
+    if (path) {
+      EXPECT_NE(solver->name().find(path), std::string::npos) << solver->name();
+    } else {
+      EXPECT_EQ(solver->name().find("path"), std::string::npos) << solver->name();
+    }
+    ASSERT_TRUE(solver->solve(rhs.data(), x.data()).ok()) << solver->name();
+    EXPECT_LT(pairs.residual(*values, x, rhs), 1e-9) << solver->name();
+  }
+  // The isotropic factor stores L_s once for both components, the complex one a 2x2 real
+  // block per entry of L_s: the factor's size says which one was made.
+  ASSERT_TRUE(solver->factorize(isotropic.data()).ok());
+  const std::size_t isotropic_nnz = solver->factorNonZeros();
+  ASSERT_TRUE(solver->factorize(conformal.data()).ok());
+  EXPECT_GT(solver->factorNonZeros(), isotropic_nnz);
+}
+
+TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneAnalysis) {
+  checkComplexAndIsotropicValuesShareOneAnalysis(supernodalEverywhere());
+}
+
+// The same with CHOLMOD's simplicial factor inside (the scalar paths' own model predicts
+// the supernodal one slower for systems this small): its factor switches kinds too.
+TEST(Solvers_Auto, ComplexAndIsotropicValuesShareOneSimplicialAnalysis) {
+  auto model = std::make_shared<solvers::CostModel>(solvers::CostModel::builtIn());
+  model->block_llt[1] = solvers::CostLine{1.0, 0.0, 0.0};  // the 2x2 plan: CHOLMOD
+  model->eigen_ldlt = solvers::CostLine{1.0, 0.0, 0.0};
+  model->cholmod_supernodal = solvers::CostLine{0.0, 1e-5, 1e-15};
+  model->block_llt[0] = solvers::CostLine{0.0, 0.0, 1e-9};  // supernodal from 1e4 flops per unknown
+  solvers::SolverOptions options;
+  options.auto_solver.cost_model = model;
+  checkComplexAndIsotropicValuesShareOneAnalysis(options);
+}
+
 // A block system the cost model sends to supernodal CHOLMOD makes `auto` ask for H in its
-// fill-reducing order, postordered, as the lower triangle: CHOLMOD then factorises H's own arrays. Every
-// path takes that layout: the complex one (blocks [a -b; b a]), the scalar one (H_s (x) I),
+// fill-reducing order, postordered, as the lower triangle: CHOLMOD then factorises H's own arrays.
+// Every path takes that layout: the complex one (blocks [a -b; b a]), the scalar one (H_s (x) I),
 // and the real block factor; a failed pivot names its column in that order, and a lower
 // triangle given without asking for it is refused.
 TEST(Solvers_Auto, LargeBlockSystemsTakeTheirOrderAsTheLowerTriangleOnEveryPath) {
@@ -319,19 +418,8 @@ TEST(Solvers_Auto, LargeBlockSystemsTakeTheirOrderAsTheLowerTriangleOnEveryPath)
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> angle(-3.0, 3.0);
   auto fill = [&](auto&& off) {
-    std::vector<double> values(pairs.row_idx.size(), 0.0);
-    for (int c = 0; c < grid.structure.n; ++c) {
-      const int len = pairs.col_ptr[2 * c + 1] - pairs.col_ptr[2 * c];
-      for (int k = grid.col_ptr[c]; k < grid.col_ptr[c + 1]; ++k) {
-        double* v = values.data() + pairs.col_ptr[2 * c] + 2 * (k - grid.col_ptr[c]);
-        if (grid.row_idx[k] == c) {
-          v[0] = v[len + 1] = 5.0;
-        } else {
-          off(v, len);
-        }
-      }
-    }
-    return values;
+    return pairValues(
+        grid, pairs, [](int) { return 5.0; }, off);
   };
   const std::vector<double> conformal = fill([&](double* v, int len) {
     const double t = angle(rng);
@@ -347,7 +435,9 @@ TEST(Solvers_Auto, LargeBlockSystemsTakeTheirOrderAsTheLowerTriangleOnEveryPath)
   std::vector<double> rhs(static_cast<std::size_t>(s.n));
   for (double& r : rhs) r = angle(rng);
   const std::vector<std::pair<const std::vector<double>*, const char*>> cases = {
-      {&conformal, "(complex path)"}, {&isotropic, "(isotropic path)"}, {&general, nullptr}};
+      {&conformal, "(complex path)"},
+      {&isotropic, "(isotropic path, on the complex path's analysis)"},
+      {&general, nullptr}};
   for (const auto& [values, path] : cases) {
     const LinearSolverResult f = solver->factorize(layout.values(*values).data());
     ASSERT_TRUE(f.ok()) << solver->name() << ": " << f.message;
