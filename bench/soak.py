@@ -54,6 +54,7 @@ is shown as "-"):
     p99_first_ms: MS
     p50_last_ms: MS           and of the last 10 %
     p99_last_ms: MS
+    p99_tenths_ms: MS x 10    optional: p99 of each tenth of the steps, on one line
     skipped_edges: N          edges skipped because an endpoint had left the window
     rss_end_kb: KB            VmRSS of the process at the end
     final_chi2: VALUE         optional; not compared (both windows hold a marginalisation prior)
@@ -213,6 +214,9 @@ def parse_keys(out):
         m = re.match(r"^(\w+): ([-+0-9.eEnaif]+)\s*$", line)
         if m and m.group(1) in FLS_KEYS:
             found[m.group(1)] = float(m.group(2))
+        m = re.match(r"^p99_tenths_ms:((?:\s+[-+0-9.eEnaif]+){10})\s*$", line)
+        if m:
+            found["p99_tenths"] = [float(x) for x in m.group(1).split()]
     return found
 
 
@@ -243,6 +247,10 @@ def side_by_side(a, stream, gs):
         ok = other.get(key, 0) > 0 and key in gs
         return f"{gs[key] / other[key]:.2f}" if ok else "-"
 
+    print("\nper tenth of the run, p99 (ms):")
+    for name, r in (("graphslam", gs), ("GTSAM IFLS", other)):
+        tenths = r.get("p99_tenths")
+        print(f"  {name}: " + (" ".join(f"{x:.3f}" for x in tenths) if tenths else "-"))
     print(f"\ngraphslam / GTSAM IFLS: p99 {ratio('p99_ms')} (first tenth "
           f"{ratio('p99_first_ms')}, last tenth {ratio('p99_last_ms')}), total {ratio('total_s')}")
     if gs["steps"] != other.get("steps") or gs["skipped_edges"] != other.get("skipped_edges"):
@@ -273,7 +281,7 @@ def pose_stream(a):
         gs = {"steps": steps, "total_s": sum(secs), "run_s": seconds, "p50_first_ms": dec[0][0],
               "p50_last_ms": dec[-1][0], "p99_first_ms": dec[0][1], "p99_last_ms": dec[-1][1],
               "p99_ms": pct(ms, 99), "max_ms": max(ms), "rss_end_mb": rss[-1] / 1024,
-              "skipped_edges": int(refused.group(1)) if refused else 0}
+              "skipped_edges": int(refused.group(1)) if refused else 0, "p99_tenths": [d[1] for d in dec]}
         side_by_side(a, stream, gs)
 
 
