@@ -6,6 +6,7 @@ optimizer with the full history and with a fixed-lag window, side by side.
 usage: bench/soak.py GRAPHSLAM [--laps N] [--window N] [--slack B] [--seed S] [--work DIR]
                      [--outage-every S --outage-seconds S] [--plots DIR] [--max-seconds S]
                      [--modes full,window,window-keep]
+       bench/soak.py GRAPHSLAM --pose-stream N [--window N] [--slack B] [--gtsam-fls PATH]
 
 The drive: `graphslam drivebot` on a generated scenario (a 100 m x 60 m rectangle driven
 --laps times, 28 landmarks beside the road; GPS every second, compass, laser), without
@@ -28,11 +29,43 @@ those of --laps 10) (matplotlib).
 --pose-stream N instead replays a synthetic pose graph of N poses (`graphslam simulate
 --poses N`, Manhattan world, no landmarks) through the window only (its loop closures reach
 behind the window and are refused) and prints the same latency and memory figures.
+
+--gtsam-fls PATH (with --pose-stream) also runs an external program on the same stream file,
+as `PATH --lag W FILE.g2o` with W the --window (for example a replay written against a GTSAM
+build with its IncrementalFixedLagSmoother; nothing here builds or ships one), after
+graphslam's run, and prints both side by side: per-step update time p50 and p99 of the first
+and last tenth of the steps, p99 and maximum of all, the total update time, the run's wall
+time, the resident memory at the end and the edges skipped because they reach behind the
+window, then the ratios graphslam / the program of p99 and of the total. For an equal window
+use --slack 0 (the default): graphslam then keeps exactly W poses after every update. The
+program must replay FILE pose by pose (pose k, the k-th vertex by id, with time stamp k,
+initialised by composing the current estimate of pose k-1 with the odometry edge k-1 -> k;
+every edge whose larger endpoint is k added at step k, one timed update per step; an edge
+whose other endpoint has left the window skipped and counted), keep the newest W poses after
+every update, and print, each on a line of its own (other lines are ignored; a missing key
+is shown as "-"):
+
+    steps: N                  number of steps (poses)
+    total_s: SECONDS          sum of the update times
+    p50_ms: MS                per-step update time percentiles (nearest rank) and maximum
+    p99_ms: MS
+    max_ms: MS
+    p50_first_ms: MS          p50 and p99 of the first 10 % of the steps (optional: p50)
+    p99_first_ms: MS
+    p50_last_ms: MS           and of the last 10 %
+    p99_last_ms: MS
+    p99_tenths_ms: MS x 10    optional: p99 of each tenth of the steps, on one line
+    skipped_edges: N          edges skipped because an endpoint had left the window
+    rss_end_kb: KB            VmRSS of the process at the end
+    final_chi2: VALUE         optional; not compared (both windows hold a marginalisation prior)
+
+Every program runs with OPENBLAS_NUM_THREADS=1 and OMP_NUM_THREADS=1, one at a time.
 """
 import argparse
 import csv
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -107,7 +140,7 @@ def deciles(stats_csv):
     for d in range(10):
         part = [1e3 * s for s in secs[d * n // 10:(d + 1) * n // 10]]
         out.append((pct(part, 50), pct(part, 99), max(part) if part else float("nan")))
-    return out, n, rss
+    return out, n, rss, secs
 
 
 def trajectory(*files):
@@ -170,6 +203,60 @@ def plot(results, folder):
     fig.savefig(os.path.join(folder, "soak_memory.png"), dpi=110)
 
 
+FLS_KEYS = ["steps", "total_s", "p50_ms", "p99_ms", "max_ms", "p50_first_ms", "p99_first_ms", "p50_last_ms",
+            "p99_last_ms", "skipped_edges", "rss_end_kb", "final_chi2"]
+
+
+def parse_keys(out):
+    """The `key: value` lines of an external program's output (FLS_KEYS only)."""
+    found = {}
+    for line in out.splitlines():
+        m = re.match(r"^(\w+): ([-+0-9.eEnaif]+)\s*$", line)
+        if m and m.group(1) in FLS_KEYS:
+            found[m.group(1)] = float(m.group(2))
+        m = re.match(r"^p99_tenths_ms:((?:\s+[-+0-9.eEnaif]+){10})\s*$", line)
+        if m:
+            found["p99_tenths"] = [float(x) for x in m.group(1).split()]
+    return found
+
+
+def fmt(row, key, digits):
+    return f"{row[key]:.{digits}f}" if key in row else "-"
+
+
+def side_by_side(a, stream, gs):
+    """Runs the --gtsam-fls program on the stream and prints its row beside graphslam's."""
+    cmd = [a.gtsam_fls, "--lag", str(a.window), stream]
+    _, seconds, out = run_sampled(cmd, a.max_seconds)
+    other = parse_keys(out)
+    other["run_s"] = seconds
+    if "rss_end_kb" in other:
+        other["rss_end_mb"] = other["rss_end_kb"] / 1024
+    print(f"\nside by side, window {a.window} poses (graphslam slack {a.slack}), the same stream:\n")
+    print("| program | steps | update total (s) | run (s) | p50 first / last 10 % (ms) | "
+          "p99 first / last 10 % (ms) | p99 (ms) | max (ms) | RSS end (MB) | skipped edges |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    label = f"GTSAM IFLS ({os.path.basename(a.gtsam_fls)})"
+    for name, r in ((f"graphslam (slack {a.slack})", gs), (label, other)):
+        print(f"| {name} | {fmt(r, 'steps', 0)} | {fmt(r, 'total_s', 2)} | {fmt(r, 'run_s', 1)} "
+              f"| {fmt(r, 'p50_first_ms', 3)} / {fmt(r, 'p50_last_ms', 3)} "
+              f"| {fmt(r, 'p99_first_ms', 3)} / {fmt(r, 'p99_last_ms', 3)} | {fmt(r, 'p99_ms', 3)} "
+              f"| {fmt(r, 'max_ms', 1)} | {fmt(r, 'rss_end_mb', 1)} | {fmt(r, 'skipped_edges', 0)} |")
+
+    def ratio(key):
+        ok = other.get(key, 0) > 0 and key in gs
+        return f"{gs[key] / other[key]:.2f}" if ok else "-"
+
+    print("\nper tenth of the run, p99 (ms):")
+    for name, r in (("graphslam", gs), ("GTSAM IFLS", other)):
+        tenths = r.get("p99_tenths")
+        print(f"  {name}: " + (" ".join(f"{x:.3f}" for x in tenths) if tenths else "-"))
+    print(f"\ngraphslam / GTSAM IFLS: p99 {ratio('p99_ms')} (first tenth "
+          f"{ratio('p99_first_ms')}, last tenth {ratio('p99_last_ms')}), total {ratio('total_s')}")
+    if gs["steps"] != other.get("steps") or gs["skipped_edges"] != other.get("skipped_edges"):
+        print("note: the steps or the skipped edges differ: the two did not replay the same window")
+
+
 def pose_stream(a):
     os.makedirs(a.work, exist_ok=True)
     stream = os.path.join(a.work, "poses.g2o")
@@ -179,7 +266,7 @@ def pose_stream(a):
     cmd = [a.graphslam, "incremental", stream, "-q", "--refine", "0", "--no-batch", "--stats", stats,
            "--window", str(a.window), "--window-slack", str(a.slack)]
     _, seconds, out = run_sampled(cmd, a.max_seconds)
-    dec, steps, rss = deciles(stats)
+    dec, steps, rss, secs = deciles(stats)
     print(f"pose stream: {steps} poses, window {a.window} (slack {a.slack}), {seconds:.1f} s\n")
     print("| tenth | p50 (ms) | p99 (ms) | max (ms) | RSS at its end (MB) |")
     print("|---|---|---|---|---|")
@@ -188,6 +275,14 @@ def pose_stream(a):
         print(f"| {d + 1} | {p50:.3f} | {p99:.3f} | {mx:.1f} | {rss[end] / 1024:.1f} |")
     print(f"\np99 last / first tenth: {dec[-1][1] / dec[0][1]:.2f}; RSS growth over the last half: "
           f"{100 * rss_growth(rss):.2f} %")
+    if a.gtsam_fls:
+        refused = re.search(r"(\d+) edges reaching marginalised vertices refused", out)
+        ms = [1e3 * x for x in secs]
+        gs = {"steps": steps, "total_s": sum(secs), "run_s": seconds, "p50_first_ms": dec[0][0],
+              "p50_last_ms": dec[-1][0], "p99_first_ms": dec[0][1], "p99_last_ms": dec[-1][1],
+              "p99_ms": pct(ms, 99), "max_ms": max(ms), "rss_end_mb": rss[-1] / 1024,
+              "skipped_edges": int(refused.group(1)) if refused else 0, "p99_tenths": [d[1] for d in dec]}
+        side_by_side(a, stream, gs)
 
 
 def main():
@@ -206,12 +301,15 @@ def main():
     ap.add_argument("--check", action="store_true",
                     help="exit 1 unless every figure is finite and both runs covered every step")
     ap.add_argument("--pose-stream", type=int, default=0)
+    ap.add_argument("--gtsam-fls", default="", help="with --pose-stream: an external fixed-lag replay program "
+                    "to run beside graphslam (the protocol above)")
     a = ap.parse_args()
+    os.environ.update(OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    if a.gtsam_fls and a.pose_stream <= 0:
+        sys.exit("soak: --gtsam-fls needs --pose-stream N")
     if a.pose_stream > 0:
         return pose_stream(a)
     os.makedirs(a.work, exist_ok=True)
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
-    os.environ.update(env)
     scen = os.path.join(a.work, "scenario")
     scenario(scen, a.laps)
     drive = os.path.join(a.work, "drive")
@@ -234,7 +332,7 @@ def main():
                     "--keep-landmarks" if mode == "window-keep" else "--reinitialise-landmarks"]
             files = [marg, out]
         _, seconds, _ = run_sampled(cmd, a.max_seconds)
-        dec, steps, rss = deciles(stats)
+        dec, steps, rss, _ = deciles(stats)
         err, err_half, matched = ape(trajectory(*files), truth)
         results[mode] = {"deciles": dec, "rss": rss, "seconds": seconds, "ape": err, "ape_half": err_half,
                          "steps": steps, "matched": matched, "growth": rss_growth(rss)}
