@@ -73,7 +73,8 @@ incremental::WindowOptions windowOptions(std::size_t states, std::size_t slack, 
 py::object run(const std::string& scenario, const std::string& data_dir, std::uint64_t seed,
                const std::vector<std::string>& sensors, int optimize_every, long max_steps,
                int final_iterations, const std::string& optimizer, std::size_t window,
-               std::size_t window_slack, double window_seconds, const std::string& policy) {
+               std::size_t window_slack, double window_seconds, const std::string& policy,
+               const std::string& checkpoint, long checkpoint_every, const std::string& resume) {
   if (optimize_every < 0 || final_iterations < 0) {
     throw py::value_error("optimize_every and final_iterations must be >= 0");
   }
@@ -101,6 +102,20 @@ py::object run(const std::string& scenario, const std::string& data_dir, std::ui
   slam.incremental_options.window = windowOptions(window, window_slack, window_seconds, policy);
   RunOptions options;
   options.final_iterations = final_iterations;
+  if (checkpoint_every < 0 || checkpoint.empty() != (checkpoint_every == 0)) {
+    throw py::value_error("checkpoint and checkpoint_every (>= 1) go together");
+  }
+  options.checkpoint_path = checkpoint;
+  options.checkpoint_every = checkpoint_every;
+  options.resume_path = resume;
+  options.types = &registries().types;
+  // What decides the run: a checkpoint is resumed only under the same.
+  options.settings = scenario + " " + data_dir + " seed " + std::to_string(seed) + " every " +
+                     std::to_string(optimize_every) + " steps " + std::to_string(max_steps) + " " +
+                     optimizer + " window " + std::to_string(window) + "/" +
+                     std::to_string(window_slack) + "/" + std::to_string(window_seconds) + " " +
+                     policy;
+  for (const std::string& sensor : sensors) options.settings += " " + sensor;
   Simulator simulator(findScenario(scenario, data_dir), sim);
   DriveBotSlamSystem system(registries().solvers, slam);
   RunResult r;
@@ -152,6 +167,7 @@ void bindDrivebot(py::module_& m) {
          py::arg("max_steps") = 1L << 40, py::arg("final_iterations") = 20,
          py::arg("optimizer") = "incremental", py::arg("window") = 0, py::arg("window_slack") = 0,
          py::arg("window_seconds") = 0.0, py::arg("landmarks") = "leave",
+         py::arg("checkpoint") = "", py::arg("checkpoint_every") = 0, py::arg("resume") = "",
          "Simulates the vehicle through `scenario` (a built-in name, a folder with x0.txt, wp.txt "
          "and lm.txt, or a name under data_dir) with odometry and the `sensors` (gps, compass, "
          "laser), runs the online SLAM system (optimising every `optimize_every` steps, 0: at "
@@ -168,7 +184,11 @@ void bindDrivebot(py::module_& m) {
          "becomes of a landmark whose observers all left (\"leave\": later sightings dropped, "
          "counted in refused_observations; \"anew\": started again; \"keep\": it stays), "
          "marginalized counts the vertices that left, and graph is the window's (without its "
-         "marginalisation priors).");
+         "marginalisation priors). `checkpoint` with `checkpoint_every` N writes the run's "
+         "state there at the first optimised step once N steps have passed since the last; "
+         "`resume` continues from such a file (written with the same arguments; the simulator "
+         "is replayed to its step) to the estimates of the run that wrote it, bit for bit "
+         "(graphslam.InputError for a file it cannot resume).");
 }
 
 }  // namespace graphslam::python

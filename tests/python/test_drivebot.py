@@ -52,3 +52,20 @@ def test_fixed_lag_window_keeps_the_map():
     assert err.mean() < 1.0, err.mean()
     with pytest.raises(ValueError, match="'leave', 'anew' or 'keep'"):
         graphslam.drivebot.run("q1_b", max_steps=10, window=5, landmarks="forget")
+
+
+def test_checkpoint_and_resume(tmp_path):
+    """A run resumed from the last checkpoint of another ends with its estimates exactly."""
+    import pytest
+    ck = str(tmp_path / "run.ck")
+    args = dict(sensors=["gps"], max_steps=400, seed=1, optimize_every=1, window=50,
+                landmarks="keep")
+    first = graphslam.drivebot.run("q1_b", checkpoint=ck, checkpoint_every=150, **args)
+    resumed = graphslam.drivebot.run("q1_b", resume=ck, **args)
+    assert not first.failed and not resumed.failed
+    assert np.array_equal(first.history, resumed.history)
+    assert np.array_equal(first.steps["online"], resumed.steps["online"])
+    with pytest.raises(graphslam.InputError, match="other settings"):
+        graphslam.drivebot.run("q1_b", resume=ck, **dict(args, seed=2))
+    with pytest.raises(ValueError, match="go together"):
+        graphslam.drivebot.run("q1_b", checkpoint=ck, **args)
