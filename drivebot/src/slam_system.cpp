@@ -276,9 +276,10 @@ void DriveBotSlamSystem::handleLandmarks(const Event& event) {
     last_seen_step_[o.landmark_id] = step_number_;
     if (!keep[k]) continue;
     auto found = landmark_ids_.find(o.landmark_id);
-    bool is_new = found == landmark_ids_.end();
-    if (!is_new && windowed() && windowLandmarkVertex(found->second, is_new) < 0) continue;
-    if (is_new && found == landmark_ids_.end()) {
+    const bool is_new = found == landmark_ids_.end();
+    bool restarted = false;
+    if (!is_new && windowed() && !windowTakesObservation(found->second, restarted)) continue;
+    if (is_new) {
       auto l = std::make_unique<VertexLandmark>();
       l->setId(next_id_++);
       const VertexId id = addVertex(std::move(l)).id();
@@ -291,7 +292,7 @@ void DriveBotSlamSystem::handleLandmarks(const Event& event) {
     edge->setMeasurement(Eigen::Vector2d(o.range, o.bearing));
     edge->setInformation(information);
     auto& added = static_cast<EdgeLandmarkRangeBearing&>(addEdge(std::move(edge)));
-    if (is_new) added.initializeLandmark();
+    if (is_new || restarted) added.initializeLandmark();
   }
 }
 

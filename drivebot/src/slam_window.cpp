@@ -29,19 +29,18 @@ void DriveBotSlamSystem::recordMarginalized(const Vertex& vertex,
   if (on_marginalised_) on_marginalised_(vertex, state);
 }
 
-VertexId DriveBotSlamSystem::windowLandmarkVertex(VertexId vertex, bool& is_new) {
-  if (!incremental_->isMarginalized(vertex)) return vertex;
+bool DriveBotSlamSystem::windowTakesObservation(VertexId vertex, bool& restarted) {
+  if (!incremental_->isMarginalized(vertex)) return true;
   if (!options_.incremental_options.window.reinitialize_landmarks) {
     ++refused_observations_;
-    return -1;
+    return false;
   }
-  // Started anew under its old id, placed by this observation.
   frozen_landmarks_.erase(vertex);
   auto l = std::make_unique<VertexLandmark>();
   l->setId(vertex);
   addVertex(std::move(l));
-  is_new = true;
-  return vertex;
+  restarted = true;
+  return true;
 }
 
 MarginalSummary DriveBotSlamSystem::landmarkEstimates(std::vector<LandmarkEstimate>& out) {

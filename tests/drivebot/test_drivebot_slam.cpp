@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drivebot_test_util.h"
 #include "graphslam/drivebot/run.h"
-#include "graphslam/solvers/register.h"
 #include "graphslam/support/error.h"
 #include "graphslam/types_drivebot/edge_landmark_range_bearing.h"
 #include "graphslam/types_drivebot/edge_vehicle_kinematics.h"
@@ -23,14 +23,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-const SolverRegistry& allSolvers() {
-  static const SolverRegistry registry = [] {
-    SolverRegistry r;
-    solvers::registerSolvers(r);
-    return r;
-  }();
-  return registry;
-}
+using drivebot_test::allSolvers;
 
 Event event(EventType type, double time, Eigen::VectorXd value, Eigen::MatrixXd cov) {
   Event e;

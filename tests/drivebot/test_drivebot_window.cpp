@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
+#include "drivebot_test_util.h"
 #include "graphslam/drivebot/run.h"
-#include "graphslam/solvers/register.h"
 #include "graphslam/support/error.h"
 #include "graphslam/types_drivebot/register.h"
 
@@ -19,14 +19,7 @@ using namespace graphslam::drivebot;
 
 namespace {
 
-const SolverRegistry& allSolvers() {
-  static const SolverRegistry registry = [] {
-    SolverRegistry r;
-    solvers::registerSolvers(r);
-    return r;
-  }();
-  return registry;
-}
+using drivebot_test::allSolvers;
 
 struct WindowRun {
   RunResult result;

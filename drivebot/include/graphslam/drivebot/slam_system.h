@@ -271,10 +271,11 @@ class DriveBotSlamSystem {
   /// The window's on_marginalised: keeps the estimates of the vertices that leave, then
   /// calls the caller's.
   void recordMarginalized(const Vertex& vertex, const incremental::WindowState* state);
-  /// With a window: the vertex of landmark `landmark_id` for a new observation, or -1 when
-  /// the landmark left the window and its observation is dropped (counted); a landmark
-  /// started anew (reinitialize_landmarks) gets a fresh vertex under its old id, `is_new`.
-  VertexId windowLandmarkVertex(VertexId vertex, bool& is_new);
+  /// With a window, for a new observation of the landmark whose vertex is `vertex`: false
+  /// when the landmark left the window and the observation is dropped (counted); a landmark
+  /// that left is started anew instead with reinitialize_landmarks (a fresh vertex under its
+  /// old id, to be placed by the observation: `restarted`).
+  bool windowTakesObservation(VertexId vertex, bool& restarted);
   /// Through the incremental optimizer when it is used, so that it sees the change.
   Vertex& addVertex(std::unique_ptr<Vertex> vertex);
   Edge& addEdge(std::unique_ptr<Edge> edge);
