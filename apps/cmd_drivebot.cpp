@@ -293,11 +293,8 @@ std::string presetOverrides(const po::variables_map& vm) {
       continue;
     }
     overrides += " --" + key;
-    const boost::any& v = value.value();
-    if (const auto* s = boost::any_cast<std::string>(&v)) overrides += " " + *s;
-    if (const auto* i = boost::any_cast<int>(&v)) overrides += " " + std::to_string(*i);
-    if (const auto* l = boost::any_cast<long>(&v)) overrides += " " + std::to_string(*l);
-    if (const auto* d = boost::any_cast<double>(&v)) overrides += " " + support::formatDouble(*d);
+    const std::string text = optionValueText(value.value());
+    if (!text.empty()) overrides += " " + text;
   }
   return overrides;
 }

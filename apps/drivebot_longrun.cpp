@@ -31,6 +31,16 @@ void checkLongRunOptions(const DrivebotLongRun& o, bool loop_closure_snapshot) {
   }
 }
 
+std::string optionValueText(const boost::any& v) {
+  if (const auto* s = boost::any_cast<std::string>(&v)) return *s;
+  if (const auto* i = boost::any_cast<int>(&v)) return std::to_string(*i);
+  if (const auto* l = boost::any_cast<long>(&v)) return std::to_string(*l);
+  if (const auto* u = boost::any_cast<std::uint64_t>(&v)) return std::to_string(*u);
+  if (const auto* d = boost::any_cast<double>(&v)) return support::formatDouble(*d);
+  if (const auto* b = boost::any_cast<bool>(&v)) return *b ? "on" : "off";
+  return {};
+}
+
 std::string runSettings(const po::variables_map& vm) {
   std::string settings;
   for (const auto& [key, value] : vm) {
@@ -39,14 +49,7 @@ std::string runSettings(const po::variables_map& vm) {
         key == "marginalised-out" || key == "help") {
       continue;
     }
-    const boost::any& v = value.value();
-    std::string text;
-    if (const auto* s = boost::any_cast<std::string>(&v)) text = *s;
-    if (const auto* i = boost::any_cast<int>(&v)) text = std::to_string(*i);
-    if (const auto* l = boost::any_cast<long>(&v)) text = std::to_string(*l);
-    if (const auto* u = boost::any_cast<std::uint64_t>(&v)) text = std::to_string(*u);
-    if (const auto* d = boost::any_cast<double>(&v)) text = support::formatDouble(*d);
-    if (const auto* b = boost::any_cast<bool>(&v)) text = *b ? "on" : "off";
+    const std::string text = optionValueText(value.value());
     settings += (settings.empty() ? "--" : " --") + key + (text.empty() ? "" : " " + text);
   }
   return settings;

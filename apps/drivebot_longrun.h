@@ -27,6 +27,10 @@ void addLongRunOptions(boost::program_options::options_description& desc, Driveb
 /// Refuses (UsageError) what does not go together.
 void checkLongRunOptions(const DrivebotLongRun& o, bool loop_closure_snapshot);
 
+/// An option's value as the command line would give it (string, integer, double, bool as
+/// on/off; empty for other types).
+[[nodiscard]] std::string optionValueText(const boost::any& value);
+
 /// The settings a checkpoint is resumed under: every option given that decides the run
 /// ("--key value", in name order), without those that only say where outputs go.
 [[nodiscard]] std::string runSettings(const boost::program_options::variables_map& vm);
