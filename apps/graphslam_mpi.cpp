@@ -5,11 +5,13 @@
 // progress (with the bytes the ranks exchanged) and writes OUT.
 #include <boost/program_options.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
 #include "graphslam/init/initial_guess.h"
 #include "graphslam/io/g2o.h"
+#include "graphslam/solvers/process.h"
 #include "graphslam/solvers/register.h"
 #include "graphslam/submap/mpi_solver.h"
 #include "graphslam/support/error.h"
@@ -72,6 +74,12 @@ int run(const Arguments& a, const submap::MpiSession& mpi) {
   TypeRegistry types;
   types_slam2d::registerTypes(types);
   types_slam3d::registerTypes(types);
+  // CHOLMOD's calls run their OpenMP loops serially (it asks for 4 threads whatever the
+  // cores), and BLAS runs on one thread per call unless OPENBLAS_NUM_THREADS says otherwise:
+  // ranks and --threads are how this program uses the cores.
+  solvers::serializeCholmodOpenMp();
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) (void)solvers::setBlasThreads(1);
+  solvers::retainFreedMemory();  // every submap's factor is made and freed once or twice a step
   SolverRegistry solvers;
   solvers::registerSolvers(solvers);
   io::LoadResult loaded = io::loadG2o(a.input, types);

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "builtins.h"
+#include "graphslam/solvers/process.h"
 #include "graphslam/submap/submap_solver.h"
 
 namespace graphslam::apps {
@@ -65,6 +67,10 @@ Summary runSubmapSolver(Graph& graph, const SolverRegistry& solvers, int submaps
   so.function_tolerance = options.function_tolerance;
   so.step_tolerance = options.step_tolerance;
   so.threads = options.threads;
+  // Each thread eliminates whole submaps: BLAS on one thread per call keeps the cores for
+  // them instead of oversubscribing them (OPENBLAS_NUM_THREADS still decides when set).
+  if (so.threads > 1) oneBlasThreadUnlessSet();
+  solvers::retainFreedMemory();  // every submap's factor is made and freed once or twice a step
   so.fix_gauge = options.fix_gauge;
   so.callback = [&csv, quiet](const submap::IterationStats& s) {
     if (!quiet) {

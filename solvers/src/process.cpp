@@ -5,13 +5,17 @@
 #include <dlfcn.h>
 
 #include <atomic>
+#include <climits>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #ifdef GRAPHSLAM_HAVE_CHOLMOD
 #include <SuiteSparse_config.h>
 
 #include <cstdlib>
-#include <string>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "graphslam/support/blas.h"
@@ -83,14 +87,26 @@ void serializeCholmodOpenMp(bool on) { detail::SerialOpenMp::enable(on); }
 
 bool cholmodOpenMpSerialized() { return detail::SerialOpenMp::enabled(); }
 
+CholmodOpenMpScope::CholmodOpenMpScope() : serial_(std::make_unique<detail::SerialOpenMp>()) {}
+CholmodOpenMpScope::~CholmodOpenMpScope() = default;
+
 #else
 
 void installCholmodPrefaultingAllocator(const CholmodPrefaultOptions& /*options*/) {}
 bool cholmodPrefaultingAllocatorInstalled() { return false; }
 void serializeCholmodOpenMp(bool /*on*/) {}
 bool cholmodOpenMpSerialized() { return false; }
+CholmodOpenMpScope::CholmodOpenMpScope() = default;
+CholmodOpenMpScope::~CholmodOpenMpScope() = default;
 
 #endif
+
+void retainFreedMemory() {
+#ifdef __GLIBC__
+  (void)mallopt(M_MMAP_MAX, 0);
+  (void)mallopt(M_TRIM_THRESHOLD, INT_MAX);
+#endif
+}
 
 bool setBlasThreads(int threads) {
   using SetThreads = void (*)(int);

@@ -11,10 +11,11 @@
 namespace graphslam::submap::detail {
 
 LocalSubmaps::LocalSubmaps(const Partition& partition, const std::vector<int>& indices, int threads,
-                           bool keep_factorizations)
+                           bool keep_factorizations, bool supernodal)
     : partition_(&partition), pool_(std::max(1, threads)) {
   systems_.reserve(indices.size());
-  for (int k : indices) systems_.emplace_back(partition, k, keep_factorizations);
+  const bool augmented = supernodal && AugmentedFactor::available();
+  for (int k : indices) systems_.emplace_back(partition, k, keep_factorizations, augmented);
 }
 
 template <class Fn>

@@ -50,8 +50,9 @@ class Engine {
 /// The submaps one process holds, worked on by a thread pool (each thread whole submaps).
 class LocalSubmaps {
  public:
+  /// `supernodal`: Options::supernodal_interiors (ignored without CHOLMOD).
   LocalSubmaps(const Partition& partition, const std::vector<int>& indices, int threads,
-               bool keep_factorizations);
+               bool keep_factorizations, bool supernodal);
   [[nodiscard]] std::vector<SubmapSystem>& systems() { return systems_; }
   /// Objective and raw chi2 per held submap.
   std::vector<Cost> costs();

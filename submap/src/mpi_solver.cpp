@@ -89,7 +89,8 @@ class MpiEngine final : public detail::Engine {
         rank_(rank),
         size_(size),
         mine_(submapsOfRank(partition, rank, size)),
-        submaps_(partition, mine_, options.threads, options.keep_factorizations),
+        submaps_(partition, mine_, options.threads, options.keep_factorizations,
+                 options.supernodal_interiors),
         separator_(partition, rank == 0 ? options.solvers : nullptr, options.separator_solver),
         estimates_(partition) {}
 

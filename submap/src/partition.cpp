@@ -2,6 +2,7 @@
 #include "graphslam/submap/partition.h"
 
 #include <algorithm>
+#include <climits>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -9,13 +10,15 @@
 
 #include "graphslam/diagnostics/graph_checks.h"
 #include "graphslam/support/error.h"
+#include "node_bisection.h"
 
 namespace graphslam::submap {
 namespace {
 
 /// The optimised vertices (non-fixed, with an active edge) in id order, their index by
-/// address, and their adjacency (compressed rows; an edge of several vertices joins its
-/// first non-fixed vertex to the others, which keeps its vertices together).
+/// address, and their adjacency (compressed rows). An edge of several vertices joins every
+/// pair of them for node bisection (a separator then splits no edge), and its first
+/// non-fixed vertex to the others for breadth-first orders (which keeps them together).
 struct VertexGraph {
   std::vector<Vertex*> vertices;
   std::unordered_map<const Vertex*, int> index;
@@ -37,7 +40,7 @@ void edgeVariables(const VertexGraph& vg, const Edge& edge, std::vector<int>& ou
   }
 }
 
-VertexGraph buildVertexGraph(const Graph& graph) {
+VertexGraph buildVertexGraph(const Graph& graph, bool all_pairs) {
   VertexGraph vg;
   for (const auto& [id, v] : graph.vertices()) {
     if (v->fixed()) continue;
@@ -53,9 +56,11 @@ VertexGraph buildVertexGraph(const Graph& graph) {
   std::vector<int> vars;
   for (const auto& e : graph.edges()) {
     edgeVariables(vg, *e, vars);
-    for (std::size_t k = 1; k < vars.size(); ++k) {
-      pairs.emplace_back(vars[0], vars[k]);
-      pairs.emplace_back(vars[k], vars[0]);
+    for (std::size_t j = 0; j < (all_pairs ? vars.size() : 1); ++j) {
+      for (std::size_t k = j + 1; k < vars.size(); ++k) {
+        pairs.emplace_back(vars[j], vars[k]);
+        pairs.emplace_back(vars[k], vars[j]);
+      }
     }
   }
   std::sort(pairs.begin(), pairs.end());
@@ -133,14 +138,14 @@ std::vector<int> bisect(const VertexGraph& vg, int num_parts) {
   return part;
 }
 
-/// The separator vertices: a cover of the edges that join parts. An edge of two vertices in
-/// different parts is covered by the one with more such edges (the other part's when
-/// equal), unless one of them already is in the separator; an edge of more vertices puts
-/// every vertex outside its lowest part into the separator. Afterwards the vertices of an
-/// edge outside the separator lie in one part.
-std::vector<char> chooseSeparators(const Graph& graph, const VertexGraph& vg,
-                                   const std::vector<int>& part) {
-  std::vector<char> is_separator(vg.vertices.size(), 0);
+/// Adds separator vertices until they cover the edges that join parts. An edge of two
+/// vertices in different parts is covered by the one with more such edges (the other
+/// part's when equal), unless one of them already is in the separator; an edge of more
+/// vertices puts its non-separator vertices outside the lowest part among them into the
+/// separator. Afterwards the vertices of an edge outside the separator lie in one part.
+/// (Node bisection leaves nothing to cover: this keeps the invariant whatever the split.)
+void coverCutEdges(const Graph& graph, const VertexGraph& vg, const std::vector<int>& part,
+                   std::vector<char>& is_separator) {
   std::vector<int> cut_degree(vg.vertices.size(), 0), vars;
   auto at = [](const std::vector<int>& v, int k) { return v[static_cast<std::size_t>(k)]; };
   for (const auto& e : graph.edges()) {
@@ -149,8 +154,10 @@ std::vector<char> chooseSeparators(const Graph& graph, const VertexGraph& vg,
       ++cut_degree[static_cast<std::size_t>(vars[0])];
       ++cut_degree[static_cast<std::size_t>(vars[1])];
     } else if (vars.size() > 2) {
-      int lowest = at(part, vars[0]);
-      for (int v : vars) lowest = std::min(lowest, at(part, v));
+      int lowest = INT_MAX;
+      for (int v : vars) {
+        if (!is_separator[static_cast<std::size_t>(v)]) lowest = std::min(lowest, at(part, v));
+      }
       for (int v : vars) {
         if (at(part, v) != lowest) is_separator[static_cast<std::size_t>(v)] = 1;
       }
@@ -167,7 +174,6 @@ std::vector<char> chooseSeparators(const Graph& graph, const VertexGraph& vg,
                             : at(part, u) > at(part, v);
     is_separator[static_cast<std::size_t>(take_u ? u : v)] = 1;
   }
-  return is_separator;
 }
 
 /// Checks that every group of interior vertices joined by a submap's edges reaches a
@@ -226,6 +232,10 @@ void checkAnchors(const Partition& p, const VertexGraph& vg, const std::vector<i
 
 }  // namespace
 
+PartitionOptions::Method PartitionOptions::defaultMethod() {
+  return detail::haveNodeBisection() ? Method::node_bisection : Method::breadth_first;
+}
+
 std::string Partition::describe() const {
   std::size_t largest = 0;
   int largest_separator = 0;
@@ -245,14 +255,24 @@ Partition partitionGraph(const Graph& graph, const PartitionOptions& options) {
     throw Error("submaps: the number of submaps must be at least 1, not " +
                 std::to_string(options.num_submaps));
   }
-  const VertexGraph vg = buildVertexGraph(graph);
+  const bool by_nodes = options.method == PartitionOptions::Method::node_bisection;
+  const VertexGraph vg = buildVertexGraph(graph, by_nodes);
   const std::size_t n = vg.vertices.size();
   if (n < static_cast<std::size_t>(options.num_submaps)) {
     throw Error("submaps: " + std::to_string(options.num_submaps) + " submaps for " +
                 std::to_string(n) + " optimised vertices: use fewer submaps");
   }
-  const std::vector<int> part = bisect(vg, options.num_submaps);
-  std::vector<char> is_separator = chooseSeparators(graph, vg, part);
+  std::vector<int> part;
+  std::vector<char> is_separator;
+  if (by_nodes) {
+    detail::NodeSplit split = detail::nodeBisection(vg.starts, vg.neighbours, options.num_submaps);
+    part = std::move(split.part);
+    is_separator = std::move(split.is_separator);
+  } else {
+    part = bisect(vg, options.num_submaps);
+    is_separator.assign(n, 0);
+  }
+  coverCutEdges(graph, vg, part, is_separator);
   // An edge belongs to the part of its vertices outside the separator (one part: the cover
   // above), or to the lowest part among its vertices when all are separator vertices.
   std::vector<int> edge_part(graph.numEdges(), -1), vars;

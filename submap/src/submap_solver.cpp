@@ -22,7 +22,8 @@ class LocalEngine final : public detail::Engine {
  public:
   LocalEngine(const Partition& partition, const Options& options)
       : partition_(partition),
-        submaps_(partition, allIndices(partition), options.threads, options.keep_factorizations),
+        submaps_(partition, allIndices(partition), options.threads, options.keep_factorizations,
+                 options.supernodal_interiors),
         separator_(partition, options.solvers, options.separator_solver),
         estimates_(partition) {}
 

@@ -35,14 +35,51 @@ struct SubmapSystem::Factor {
 
 namespace {
 
-/// The elimination order of A: approximate minimum degree, with the rows B touches (the
-/// interior vertices next to the separator) constrained to the end when CAMD is available,
+#ifdef GRAPHSLAM_SUBMAP_HAVE_CAMD
+/// The interior's part of CAMD's order of the pattern of [A B] with the separator's columns
+/// constrained last: the interior ordered knowing which of its vertices the separator
+/// joins (the fill AugmentedFactor's factorisation of M gets). Empty when CAMD fails.
+std::vector<int> interiorOrderBeforeSeparator(const SparseMatrix& a_upper, const SparseMatrix& b) {
+  const auto di = static_cast<int>(a_upper.rows()), n = di + static_cast<int>(b.cols());
+  std::vector<int> starts(1, 0), rows, constraint(static_cast<std::size_t>(n), 0);
+  rows.reserve(static_cast<std::size_t>(a_upper.nonZeros() + b.nonZeros()));
+  for (int j = 0; j < di; ++j) {
+    for (SparseMatrix::InnerIterator it(a_upper, j); it; ++it)
+      rows.push_back(static_cast<int>(it.row()));
+    starts.push_back(static_cast<int>(rows.size()));
+  }
+  for (int j = 0; j < b.cols(); ++j) {
+    for (SparseMatrix::InnerIterator it(b, j); it; ++it) rows.push_back(static_cast<int>(it.row()));
+    starts.push_back(static_cast<int>(rows.size()));
+    constraint[static_cast<std::size_t>(di + j)] = 1;
+  }
+  std::vector<int> order(static_cast<std::size_t>(n));
+  if (camd_order(n, starts.data(), rows.data(), order.data(), nullptr, nullptr,
+                 b.cols() > 0 ? constraint.data() : nullptr) < CAMD_OK) {
+    return {};
+  }
+  order.erase(std::remove_if(order.begin(), order.end(), [di](int k) { return k >= di; }),
+              order.end());
+  return order;
+}
+#endif
+
+/// The elimination order of A: approximate minimum degree; when CAMD is available, either
+/// knowing the separator last (`before_separator`: M's order for AugmentedFactor) or with
+/// the rows B touches (the interior vertices next to the separator) constrained to the end,
 /// so that L^-1 P B fills only the trailing rows. indices()[old] = new.
 Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> eliminationOrder(
-    const SparseMatrix& a_upper, const SparseMatrix& b) {
+    const SparseMatrix& a_upper, const SparseMatrix& b, bool before_separator) {
   const auto n = static_cast<int>(a_upper.rows());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p(n);
 #ifdef GRAPHSLAM_SUBMAP_HAVE_CAMD
+  if (before_separator) {
+    const std::vector<int> order = interiorOrderBeforeSeparator(a_upper, b);
+    if (static_cast<int>(order.size()) == n) {
+      for (int k = 0; k < n; ++k) p.indices()[order[static_cast<std::size_t>(k)]] = k;
+      return p;
+    }
+  }
   std::vector<int> constraint(static_cast<std::size_t>(n), 0), order(static_cast<std::size_t>(n));
   for (int k = 0; k < b.outerSize(); ++k) {
     for (SparseMatrix::InnerIterator it(b, k); it; ++it)
@@ -59,6 +96,7 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> eliminationOrder(
   }
 #else
   (void)b;
+  (void)before_separator;
 #endif
   Eigen::AMDOrdering<int> amd;
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
@@ -70,11 +108,13 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> eliminationOrder(
 
 }  // namespace
 
-SubmapSystem::SubmapSystem(const Partition& partition, int index, bool keep_factorization)
+SubmapSystem::SubmapSystem(const Partition& partition, int index, bool keep_factorization,
+                           bool supernodal)
     : partition_(&partition),
       submap_(&partition.submaps[static_cast<std::size_t>(index)]),
       index_(index),
-      keep_factorization_(keep_factorization) {
+      keep_factorization_(keep_factorization),
+      augmented_(supernodal ? std::make_unique<AugmentedFactor>() : nullptr) {
   int col = 0;
   columns_.reserve(submap_->interior.size() + submap_->separators.size());
   for (const Vertex* v : submap_->interior) {
@@ -229,13 +269,24 @@ std::unique_ptr<SubmapSystem::Factor> SubmapSystem::factorize(const Local& local
   b.setFromTriplets(local.b.begin(), local.b.end());
   f->g_interior = local.g_interior;
   if (di == 0) return f;
-  if (order_.size() != di) order_ = eliminationOrder(a, b);  // the structure never changes
+  if (order_.size() != di) {  // the structure never changes
+    order_ = eliminationOrder(a, b, augmented_ != nullptr);
+  }
   f->b = order_ * b;
   f->g_interior = order_ * local.g_interior;
   SparseMatrix permuted(di, di);
   permuted.selfadjointView<Eigen::Upper>() = a.selfadjointView<Eigen::Upper>().twistedBy(order_);
-  f->llt.compute(permuted);
-  if (f->llt.info() != Eigen::Success) {
+  bool factorized = false;
+  if (augmented_) {
+    // The shift of the separator block: C's largest diagonal entry (AugmentedFactor).
+    const double c_max = ds > 0 ? local.c.diagonal().maxCoeff() : 0.0;
+    const double delta = c_max > 0 ? c_max : std::max(local.max_diagonal, 1.0);
+    factorized = augmented_->factorize(permuted, f->b, local.c, delta);
+  } else {
+    f->llt.compute(permuted);
+    factorized = f->llt.info() == Eigen::Success;
+  }
+  if (!factorized) {
     const auto& v = submap_->interior;
     message = "submap " + std::to_string(index_) + " (" + std::to_string(v.size()) +
               " interior vertices, ids " + std::to_string(v.front()->id()) + " to " +
@@ -295,14 +346,20 @@ Contribution SubmapSystem::eliminate(double lambda) {
   }
   out.schur = std::move(local.c);
   out.reduced = local.g_separator;
-  if (submap_->interior_dimension > 0 && submap_->separator_dimension > 0) {
+  if (augmented_ && submap_->interior_dimension > 0 && submap_->separator_dimension > 0) {
+    augmented_->contribution(f->g_interior, local.g_separator, out.schur, out.reduced);
+  } else if (submap_->interior_dimension > 0 && submap_->separator_dimension > 0) {
     SparseMatrix y = f->b;
     f->llt.matrixL().solveInPlace(y);
     Eigen::VectorXd z = f->g_interior;
     f->llt.matrixL().solveInPlace(z);
     subtractProjection(y, z, out.schur, out.reduced);
   }
-  if (keep_factorization_) kept_ = std::move(f);
+  if (keep_factorization_) {
+    kept_ = std::move(f);
+  } else if (augmented_) {
+    augmented_->release();
+  }
   return out;
 }
 
@@ -330,7 +387,12 @@ bool SubmapSystem::backSubstitute(const Eigen::VectorXd& separator_step, double 
   }
   Eigen::VectorXd rhs = -f->g_interior;
   if (separator_step.size() > 0) rhs.noalias() -= f->b * separator_step;
-  interior_step = order_.transpose() * f->llt.solve(rhs);
+  if (augmented_) {
+    interior_step = order_.transpose() * augmented_->solveInterior(rhs);
+    augmented_->release();
+  } else {
+    interior_step = order_.transpose() * f->llt.solve(rhs);
+  }
   return true;
 }
 

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "augmented_factor.h"
 #include "graphslam/submap/partition.h"
 
 namespace graphslam::submap::detail {
@@ -30,10 +31,12 @@ struct Contribution {
 /// One submap's part of the least-squares problem: its edges' errors and Jacobians (kept by
 /// the edges), assembled into its local H and g on demand; nothing of the system is kept
 /// between calls unless `keep_factorization` (then the factor of A, B and g_I stay from
-/// eliminate() to backSubstitute()).
+/// eliminate() to backSubstitute()), except the supernodal factor's symbolic analysis.
 class SubmapSystem {
  public:
-  SubmapSystem(const Partition& partition, int index, bool keep_factorization);
+  /// `supernodal`: factorise by AugmentedFactor (CHOLMOD) instead of Eigen's simplicial
+  /// LL^T of the interior alone.
+  SubmapSystem(const Partition& partition, int index, bool keep_factorization, bool supernodal);
   ~SubmapSystem();
   SubmapSystem(SubmapSystem&&) noexcept;
   SubmapSystem& operator=(SubmapSystem&&) = delete;
@@ -81,6 +84,8 @@ class SubmapSystem {
   /// The elimination order of the interior (indices()[old] = new), computed once.
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order_;
   std::unique_ptr<Factor> kept_;
+  /// The supernodal factorisation (its analysis made once), when `supernodal`.
+  std::unique_ptr<AugmentedFactor> augmented_;
   std::vector<double> saved_;
 };
 

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -75,7 +77,8 @@ submap::Options tightSubmaps(int k, int threads = 2) {
 /// Runs the direct path on a copy-by-rebuild (`make` twice) and the submap solver, and
 /// checks the same optimum to 1e-6.
 template <class Make>
-void expectSameOptimum(const Make& make, int k, bool cholmod = false) {
+void expectSameOptimum(const Make& make, int k, bool cholmod = false,
+                       const std::function<void(submap::Options&)>& tweak = {}) {
   SolverRegistry solvers;
   solvers::registerSolvers(solvers);
   support::setLogLevel(support::LogLevel::kError);
@@ -85,6 +88,7 @@ void expectSameOptimum(const Make& make, int k, bool cholmod = false) {
   ASSERT_TRUE(ds.succeeded()) << ds.message;
   Graph split = make();
   submap::Options so = tightSubmaps(k);
+  if (tweak) tweak(so);
   if (cholmod) {
     if (!solvers.contains("cholmod")) GTEST_SKIP() << "no cholmod in this build";
     so.solvers = &solvers;
@@ -262,6 +266,58 @@ TEST(Submap_Partition, EveryEdgeInOneSubmapAndSeparatorsBetween) {
   EXPECT_EQ(edges, g.numEdges());
   EXPECT_EQ(interior + p.separators.size(), g.numVertices());
   EXPECT_LT(p.separators.size(), g.numVertices() / 5) << p.describe();
+}
+
+namespace {
+
+/// Checks that every edge's vertices are fixed, separator vertices or interior vertices of
+/// the submap that holds the edge; returns the number of separator vertices.
+std::size_t expectEdgesInsideSubmaps(const submap::Partition& p) {
+  std::set<const Vertex*> separators(p.separators.begin(), p.separators.end());
+  for (const auto& s : p.submaps) {
+    std::set<const Vertex*> interior(s.interior.begin(), s.interior.end());
+    for (const Edge* e : s.edges) {
+      for (std::size_t k = 0; k < e->numVertices(); ++k) {
+        const Vertex* v = e->vertex(k);
+        EXPECT_TRUE(v->fixed() || separators.count(v) || interior.count(v))
+            << "vertex " << v->id() << " of an edge in another submap's interior";
+      }
+    }
+  }
+  return p.separators.size();
+}
+
+}  // namespace
+
+TEST(Submap_Partition, NodeBisectionCutsSmallerSeparatorsThanBreadthFirst) {
+  if (submap::PartitionOptions::defaultMethod() !=
+      submap::PartitionOptions::Method::node_bisection) {
+    GTEST_SKIP() << "built without CHOLMOD: no node bisection";
+  }
+  Graph g = manhattan(4000);
+  submap::PartitionOptions o;
+  o.num_submaps = 8;
+  o.method = submap::PartitionOptions::Method::breadth_first;
+  const auto bfs = submap::partitionGraph(g, o);
+  o.method = submap::PartitionOptions::Method::node_bisection;
+  const auto nodes = submap::partitionGraph(g, o);
+  const std::size_t bfs_size = expectEdgesInsideSubmaps(bfs);
+  const std::size_t node_size = expectEdgesInsideSubmaps(nodes);
+  EXPECT_LT(3 * node_size, 2 * bfs_size) << nodes.describe() << " against " << bfs.describe();
+  const std::size_t mean = (g.numVertices() - node_size) / 8;
+  for (const auto& s : nodes.submaps) {  // a power of two: about halves of halves
+    EXPECT_GT(2 * s.interior.size(), mean) << nodes.describe();
+    EXPECT_LT(2 * s.interior.size(), 3 * mean) << nodes.describe();
+  }
+}
+
+TEST(Submap_Solver, SameOptimumWithSimplicialInteriorsAndTheBreadthFirstPartition) {
+  // The paths of a build without CHOLMOD.
+  expectSameOptimum([] { return manhattan(600, 100); }, 4, false,
+                    [](submap::Options& o) {
+                      o.partition.method = submap::PartitionOptions::Method::breadth_first;
+                      o.supernodal_interiors = false;
+                    });
 }
 
 TEST(Submap_Partition, RefusesMoreSubmapsThanVertices) {

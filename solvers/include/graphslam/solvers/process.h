@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 
 namespace graphslam::solvers {
 
@@ -43,6 +44,32 @@ void serializeCholmodOpenMp(bool on = true);
 
 /// Whether serializeCholmodOpenMp(true) is in effect.
 [[nodiscard]] bool cholmodOpenMpSerialized();
+
+namespace detail {
+class SerialOpenMp;
+}
+
+/// For modules that call CHOLMOD themselves (the submap interiors): while a scope lives,
+/// its thread's CHOLMOD calls run their OpenMP loops serially, as the solvers' own calls
+/// do, when serializeCholmodOpenMp(true) is in effect; otherwise it changes nothing.
+class CholmodOpenMpScope {
+ public:
+  CholmodOpenMpScope();
+  ~CholmodOpenMpScope();
+  CholmodOpenMpScope(const CholmodOpenMpScope&) = delete;
+  CholmodOpenMpScope& operator=(const CholmodOpenMpScope&) = delete;
+
+ private:
+  std::unique_ptr<detail::SerialOpenMp> serial_;
+};
+
+/// Makes the C heap keep freed memory for reuse (glibc: no separate mappings for large
+/// blocks, M_MMAP_MAX 0, and no trimming of the heap's top, M_TRIM_THRESHOLD at its
+/// largest). For work that allocates and frees factors of similar sizes over and over (the
+/// submap solver factorises every submap once or twice per step): the kernel then does not
+/// fault fresh pages in for every factor. The process's resident memory stays at its peak
+/// instead of shrinking when memory is freed. Does nothing with another C library.
+void retainFreedMemory();
 
 /// Sets the number of threads (at least 1) of the process's BLAS: OpenBLAS's
 /// openblas_set_num_threads when it is loaded (which overrides OPENBLAS_NUM_THREADS for every

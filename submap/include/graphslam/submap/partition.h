@@ -12,7 +12,24 @@ namespace graphslam::submap {
 
 /// How partitionGraph splits a graph.
 struct PartitionOptions {
-  /// Submaps (>= 1). Each holds about the same number of vertices.
+  /// How the vertices are split.
+  enum class Method {
+    /// Recursive node bisection by METIS (METIS_ComputeVertexSeparator through CHOLMOD's
+    /// Partition module): each cut is a small vertex separator of the part it splits. Needs
+    /// the build with SuiteSparse; partitionGraph throws graphslam::Error without it.
+    node_bisection,
+    /// Recursive bisection of breadth-first orders (each part split at the median distance
+    /// from a peripheral vertex), then a cover of the cut edges. No dependency; larger
+    /// separators on maps with many loop closures.
+    breadth_first,
+  };
+  /// node_bisection when the build has CHOLMOD's Partition module, else breadth_first.
+  static Method defaultMethod();
+  Method method = defaultMethod();
+  /// Submaps (>= 1). Bisection halves a part's vertices at every level: with a power of two
+  /// the submaps hold about the same number of vertices; otherwise a part of p submaps is
+  /// split into floor(p/2) and ceil(p/2) submaps of equal halves, so some submaps hold up to
+  /// twice as many vertices as others.
   int num_submaps = 4;
   /// Refused (graphslam::Error) when the separator holds more than this fraction of the
   /// optimised vertices: the separator system would be about as large as the whole one, so
@@ -48,11 +65,11 @@ struct Partition {
   [[nodiscard]] std::string describe() const;
 };
 
-/// Splits the optimised vertices into options.num_submaps parts by recursive bisection of
-/// breadth-first orders (each part is split at the median distance from a peripheral
-/// vertex: a level set of the graph, a short cut on maps and trajectories), then makes
-/// separator vertices of every vertex an edge joins to a vertex of a lower-numbered part.
-/// Deterministic: the same graph gives the same partition (MPI ranks rely on it).
+/// Splits the optimised vertices into options.num_submaps parts by recursive bisection
+/// (PartitionOptions::Method): node bisection makes the vertices of each cut separator
+/// vertices; breadth-first bisection cuts at the median distance from a peripheral vertex
+/// (a level set of the graph) and then covers the edges that join parts with separator
+/// vertices. Deterministic: the same graph gives the same partition (MPI ranks rely on it).
 /// Throws graphslam::Error naming the sizes when the separator is too large
 /// (PartitionOptions), and when a submap holds a group of interior vertices that nothing
 /// anchors (no separator vertex, fixed vertex or unary edge among their edges: the gauge of

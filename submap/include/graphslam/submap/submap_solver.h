@@ -79,6 +79,11 @@ struct Options {
   /// factor in memory at once. Off: memory holds the largest submaps being worked on (one
   /// per thread) plus the separator system.
   bool keep_factorizations = false;
+  /// Factorise each submap's whole system with its separator last by CHOLMOD's supernodal
+  /// Cholesky (BLAS-3 on dense supernodes; the Schur complement read off the factor's
+  /// trailing block). Off, or in a build without CHOLMOD: Eigen's simplicial LL^T of the
+  /// interior, then the Schur complement from its triangular solves.
+  bool supernodal_interiors = true;
   /// The separator system's factorisation: `separator_solver` of `solvers` (a sparse
   /// Cholesky that takes the matrix in its given order: "cholmod", supernodal, fits the
   /// dense blocks the submaps leave there), or Eigen's simplicial LL^T when `solvers` is null.
