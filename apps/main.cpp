@@ -3,11 +3,9 @@
 // (libgraphslam_tool.so, with the library's modules behind it) only to run one, so that
 // what a command does not need is never loaded. A static build links the commands in.
 #include <dlfcn.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -79,14 +77,6 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
 #ifdef GRAPHSLAM_TOOL_LIBRARY
-  // Under an address-space limit (ulimit -v) OpenBLAS's worker threads, each reserving its
-  // buffers, can fail to and then loop forever at shutdown. A module that links BLAS
-  // (through CHOLMOD) loads it with the commands, before the tool could set its threads:
-  // BLAS then starts on one thread (OPENBLAS_NUM_THREADS still decides when set).
-  struct rlimit address_space {};
-  if (::getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY) {
-    ::setenv("OPENBLAS_NUM_THREADS", "1", /*overwrite=*/0);
-  }
   std::string error;
   const auto run = loadCommands(error);
   if (!run) {

@@ -87,17 +87,12 @@ void serializeCholmodOpenMp(bool on) { detail::SerialOpenMp::enable(on); }
 
 bool cholmodOpenMpSerialized() { return detail::SerialOpenMp::enabled(); }
 
-CholmodOpenMpScope::CholmodOpenMpScope() : serial_(std::make_unique<detail::SerialOpenMp>()) {}
-CholmodOpenMpScope::~CholmodOpenMpScope() = default;
-
 #else
 
 void installCholmodPrefaultingAllocator(const CholmodPrefaultOptions& /*options*/) {}
 bool cholmodPrefaultingAllocatorInstalled() { return false; }
 void serializeCholmodOpenMp(bool /*on*/) {}
 bool cholmodOpenMpSerialized() { return false; }
-CholmodOpenMpScope::CholmodOpenMpScope() = default;
-CholmodOpenMpScope::~CholmodOpenMpScope() = default;
 
 #endif
 

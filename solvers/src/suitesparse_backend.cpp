@@ -7,6 +7,7 @@ graphslam_solvers_suitesparse_backend() {
   namespace ss = graphslam::solvers::suitesparse;
   static const ss::Backend table{ss::makeCholmodSolver, ss::makeCholmodComplexSolver,
                                  ss::makeCsparseSolver, ss::makeUmfpackSolver,
-                                 ss::makeSpqrSolver,    ss::metisBlocks};
+                                 ss::makeSpqrSolver,    ss::metisBlocks,
+                                 ss::makeOrderedFactor, ss::metisSeparator};
   return &table;
 }

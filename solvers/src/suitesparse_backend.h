@@ -13,6 +13,7 @@
 #include "common.h"
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/solvers/options.h"
+#include "graphslam/solvers/ordered_factor.h"
 #include "ordering.h"
 
 namespace graphslam::solvers::suitesparse {
@@ -31,6 +32,9 @@ std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
                                                 std::shared_ptr<OrderingCache> cache);
 std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering);
 std::vector<int> metisBlocks(const detail::BlockGraph& g);
+std::unique_ptr<OrderedFactor> makeOrderedFactor();
+std::vector<int> metisSeparator(const std::vector<int>& column_starts,
+                                const std::vector<int>& rows);
 /// A CHOLMOD status (cholmod_common::status, also SuiteSparseQR's) in words.
 std::string cholmodStatusText(int status);
 
@@ -42,6 +46,8 @@ struct Backend {
   decltype(&makeUmfpackSolver) umfpack;
   decltype(&makeSpqrSolver) spqr;
   decltype(&metisBlocks) metis;
+  decltype(&makeOrderedFactor) ordered_factor;
+  decltype(&metisSeparator) metis_separator;
 };
 
 }  // namespace graphslam::solvers::suitesparse

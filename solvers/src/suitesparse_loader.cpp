@@ -74,10 +74,15 @@ std::unique_ptr<LinearSolver> makeUmfpackSolver(Ordering ordering,
   return backend().umfpack(ordering, std::move(cache));
 }
 
-std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering) {
-  return backend().spqr(ordering);
-}
+std::unique_ptr<LinearSolver> makeSpqrSolver(Ordering ordering) { return backend().spqr(ordering); }
 
 std::vector<int> metisBlockOrdering(const detail::BlockGraph& g) { return backend().metis(g); }
+
+std::unique_ptr<OrderedFactor> makeOrderedSupernodalFactor() { return backend().ordered_factor(); }
+
+std::vector<int> metisVertexSeparator(const std::vector<int>& column_starts,
+                                      const std::vector<int>& rows) {
+  return backend().metis_separator(column_starts, rows);
+}
 
 }  // namespace graphslam::solvers

@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
-// Private: a submap's whole system factorised with its separator last (CHOLMOD supernodal),
-// which gives the interior's elimination onto the separator from one factorisation.
+// Private: a submap's whole system factorised with its separator last (CHOLMOD supernodal,
+// through the solvers' OrderedFactor), which gives the interior's elimination onto the
+// separator from one factorisation.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
+
+namespace graphslam::solvers {
+class OrderedFactor;
+}
 
 namespace graphslam::submap::detail {
 
@@ -23,9 +28,10 @@ namespace graphslam::submap::detail {
 /// by release() and made again by the next factorize().
 class AugmentedFactor {
  public:
-  /// Whether this build has CHOLMOD.
+  /// Whether this build has CHOLMOD (SuiteSparse).
   [[nodiscard]] static bool available();
 
+  /// Throws graphslam::Error when the SuiteSparse backend cannot be loaded.
   AugmentedFactor();
   ~AugmentedFactor();
   AugmentedFactor(const AugmentedFactor&) = delete;
@@ -47,8 +53,9 @@ class AugmentedFactor {
   void release();
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<solvers::OrderedFactor> factor_;
+  int di_ = 0, ds_ = 0;
+  double delta_ = 0.0;
 };
 
 }  // namespace graphslam::submap::detail

@@ -4,38 +4,19 @@
 #include <algorithm>
 #include <climits>
 #include <cstddef>
-#include <string>
 #include <utility>
 
-#include "graphslam/support/error.h"
-
-#ifdef GRAPHSLAM_SUBMAP_HAVE_CHOLMOD
-#include <cholmod.h>
-#endif
+#include "graphslam/solvers/ordered_factor.h"
+#include "graphslam/solvers/register.h"
 
 namespace graphslam::submap::detail {
 
-#ifdef GRAPHSLAM_SUBMAP_HAVE_CHOLMOD
 namespace {
-
-/// CHOLMOD's workspace for the bisections.
-class Cholmod {
- public:
-  Cholmod() { cholmod_start(&common_); }
-  ~Cholmod() { cholmod_finish(&common_); }
-  Cholmod(const Cholmod&) = delete;
-  Cholmod& operator=(const Cholmod&) = delete;
-  cholmod_common* get() { return &common_; }
-
- private:
-  cholmod_common common_{};
-};
 
 /// The side of each of `nodes` (sorted): 0 or 1, or 2 for METIS's vertex separator of the
 /// subgraph they induce. `local` maps every vertex to -1 on entry and on return.
 std::vector<int> bisectNodes(const std::vector<int>& starts, const std::vector<int>& neighbours,
-                             const std::vector<int>& nodes, std::vector<int>& local,
-                             Cholmod& cholmod) {
+                             const std::vector<int>& nodes, std::vector<int>& local) {
   const std::size_t m = nodes.size();
   for (std::size_t k = 0; k < m; ++k)
     local[static_cast<std::size_t>(nodes[k])] = static_cast<int>(k);
@@ -50,24 +31,12 @@ std::vector<int> bisectNodes(const std::vector<int>& starts, const std::vector<i
     column_starts[j + 1] = static_cast<int>(rows.size());
   }
   for (int v : nodes) local[static_cast<std::size_t>(v)] = -1;
-  std::vector<int> side(m, 0);
   if (rows.empty()) {  // no edges: any split is a separator-free one
+    std::vector<int> side(m, 0);
     std::fill(side.begin() + static_cast<std::ptrdiff_t>(m / 2), side.end(), 1);
     return side;
   }
-  cholmod_sparse* a = cholmod_allocate_sparse(m, m, rows.size(), /*sorted=*/1, /*packed=*/1,
-                                              /*stype=*/1, CHOLMOD_PATTERN, cholmod.get());
-  if (a == nullptr) throw Error("submaps: CHOLMOD could not allocate the graph to bisect");
-  std::copy(column_starts.begin(), column_starts.end(), static_cast<int*>(a->p));
-  std::copy(rows.begin(), rows.end(), static_cast<int*>(a->i));
-  const SuiteSparse_long separator =
-      cholmod_bisect(a, nullptr, 0, /*compress=*/1, side.data(), cholmod.get());
-  cholmod_free_sparse(&a, cholmod.get());
-  if (separator < 0 || cholmod.get()->status < CHOLMOD_OK) {
-    throw Error("submaps: METIS's node bisection of " + std::to_string(m) +
-                " vertices failed (CHOLMOD status " + std::to_string(cholmod.get()->status) + ")");
-  }
-  return side;
+  return solvers::metisVertexSeparator(column_starts, rows);
 }
 
 /// Gives each separator vertex the lowest part among its non-separator neighbours.
@@ -86,7 +55,7 @@ void labelSeparators(const std::vector<int>& starts, const std::vector<int>& nei
 
 }  // namespace
 
-bool haveNodeBisection() { return true; }
+bool haveNodeBisection() { return solvers::haveSuiteSparse(); }
 
 NodeSplit nodeBisection(const std::vector<int>& starts, const std::vector<int>& neighbours,
                         int num_parts) {
@@ -100,13 +69,12 @@ NodeSplit nodeBisection(const std::vector<int>& starts, const std::vector<int>& 
   tasks.push_back({std::vector<int>(n), num_parts, 0});
   for (std::size_t v = 0; v < n; ++v) tasks.back().nodes[v] = static_cast<int>(v);
   std::vector<int> local(n, -1);
-  Cholmod cholmod;
   while (!tasks.empty()) {
     Task t = std::move(tasks.back());
     tasks.pop_back();
     for (int v : t.nodes) split.part[static_cast<std::size_t>(v)] = t.first;
     if (t.parts == 1 || t.nodes.size() < 2) continue;
-    const std::vector<int> side = bisectNodes(starts, neighbours, t.nodes, local, cholmod);
+    const std::vector<int> side = bisectNodes(starts, neighbours, t.nodes, local);
     const auto ones = static_cast<std::size_t>(std::count(side.begin(), side.end(), 1));
     const auto zeros = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
     const int larger = ones > zeros ? 1 : 0;  // goes to the ceil(p/2) parts
@@ -126,17 +94,5 @@ NodeSplit nodeBisection(const std::vector<int>& starts, const std::vector<int>& 
   labelSeparators(starts, neighbours, split);
   return split;
 }
-
-#else
-
-bool haveNodeBisection() { return false; }
-
-NodeSplit nodeBisection(const std::vector<int>&, const std::vector<int>&, int) {
-  throw Error(
-      "submaps: node bisection needs SuiteSparse's CHOLMOD (METIS), which this build does not "
-      "have: use PartitionOptions::Method::breadth_first");
-}
-
-#endif
 
 }  // namespace graphslam::submap::detail

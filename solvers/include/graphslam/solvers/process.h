@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cstddef>
-#include <memory>
 
 namespace graphslam::solvers {
 
@@ -44,24 +43,6 @@ void serializeCholmodOpenMp(bool on = true);
 
 /// Whether serializeCholmodOpenMp(true) is in effect.
 [[nodiscard]] bool cholmodOpenMpSerialized();
-
-namespace detail {
-class SerialOpenMp;
-}
-
-/// For modules that call CHOLMOD themselves (the submap interiors): while a scope lives,
-/// its thread's CHOLMOD calls run their OpenMP loops serially, as the solvers' own calls
-/// do, when serializeCholmodOpenMp(true) is in effect; otherwise it changes nothing.
-class CholmodOpenMpScope {
- public:
-  CholmodOpenMpScope();
-  ~CholmodOpenMpScope();
-  CholmodOpenMpScope(const CholmodOpenMpScope&) = delete;
-  CholmodOpenMpScope& operator=(const CholmodOpenMpScope&) = delete;
-
- private:
-  std::unique_ptr<detail::SerialOpenMp> serial_;
-};
 
 /// Makes the C heap keep freed memory for reuse (glibc: no separate mappings for large
 /// blocks, M_MMAP_MAX 0, and no trimming of the heap's top, M_TRIM_THRESHOLD at its
