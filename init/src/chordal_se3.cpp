@@ -245,6 +245,7 @@ InitializationReport initializeChordal3d(Graph& graph, LinearSolver* solver) {
   if (free > 0 && (!solveRotations(p, col, free, solver, rotations) ||
                    !solveTranslations(p, col, free, solver, rotations, translations))) {
     report.message = "the chordal system is singular: initial guess kept";
+    report.failed = true;
     return report;
   }
   for (std::size_t i = 0; i < p.poses.size(); ++i) {

@@ -419,6 +419,16 @@ bool solvePositions(const Problem& p, const std::vector<int>& var, int nv,
   return true;
 }
 
+/// `report` for a system that was not solved: which, and the linear solver's reason.
+InitializationReport failed(InitializationReport& report, const char* system,
+                            const SpdSolver& spd) {
+  report.failed = true;
+  report.message =
+      std::string(system) + " not solved (" + spd.failure() + "): initial estimates kept";
+  report.analysis_seconds = spd.analysisSeconds();
+  return report;
+}
+
 }  // namespace
 
 InitializationReport initializeGlobal(Graph& graph) { return initializeGlobal(graph, nullptr); }
@@ -478,8 +488,7 @@ InitializationReport initializeGlobalWeighted(Graph& graph, LinearSolver* solver
   if (nv > 0 && !p.observations.empty()) {
     if (!jointOrientations(p, obs_landmark, static_cast<int>(landmarks.size()), var, nv, theta,
                            spd)) {
-      report.message = "orientation system (with landmarks) is singular: initial estimates kept";
-      return report;
+      return failed(report, "orientation system (with landmarks)", spd);
     }
   }
   // Without landmark observations both steps solve a system of the pose pairs' pattern.
@@ -487,18 +496,14 @@ InitializationReport initializeGlobalWeighted(Graph& graph, LinearSolver* solver
   if (nv > 0 && p.observations.empty()) {
     pose_system.emplace(nv, pairs);
     if (!odometryOrientations(p, var, *pose_system, theta, spd)) {
-      report.message = "orientation system is singular: initial estimates kept";
-      report.analysis_seconds = spd.analysisSeconds();
-      return report;
+      return failed(report, "orientation system", spd);
     }
   }
 
   // Step 2: translations of poses and positions of landmarks, orientations held.
   if (!solvePositions(p, var, nv, landmarks, obs_landmark, std::move(pairs), theta,
                       pose_system ? &*pose_system : nullptr, spd, report)) {
-    report.message = "position system is singular: initial estimates kept";
-    report.analysis_seconds = spd.analysisSeconds();
-    return report;
+    return failed(report, "position system", spd);
   }
   report.analysis_seconds = spd.analysisSeconds();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

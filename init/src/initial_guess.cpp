@@ -67,13 +67,16 @@ InitialGuessReport initializeGraph(Graph& graph, const SolverRegistry& solvers,
   InitialGuessReport out;
   out.poses = r2.poses + r3.poses;
   out.landmarks = r2.landmarks + r3.landmarks;
-  if (r2.poses > 0 || (!r2.message.empty() && r3.poses == 0 && r3.message.empty())) {
+  // A failure is always said; "nothing to initialise" only when neither part applies.
+  if (r2.poses > 0 || r2.failed || (!r2.message.empty() && r3.poses == 0 && r3.message.empty())) {
     out.lines.push_back(describe("global", r2));
   }
-  if (r3.poses > 0 || (!r3.message.empty() && r2.poses == 0 && r2.message.empty())) {
+  if (r3.poses > 0 || r3.failed || (!r3.message.empty() && r2.poses == 0 && r2.message.empty())) {
     out.lines.push_back(describe("global 3D (chordal)", r3));
   }
-  if (r2.poses == 0 && r3.poses == 0 && !r2.message.empty() && !r3.message.empty()) {
+  if (r2.failed || r3.failed) {
+    // said above
+  } else if (r2.poses == 0 && r3.poses == 0 && !r2.message.empty() && !r3.message.empty()) {
     out.lines.push_back("no EDGE_SE2 or EDGE_SE3:QUAT in the graph: nothing to initialise");
   } else if (std::string unused = unusedEdgesLine(graph); !unused.empty()) {
     out.lines.push_back(std::move(unused));

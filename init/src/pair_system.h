@@ -8,6 +8,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -85,9 +86,12 @@ class SpdSolver {
 
   /// Seconds spent in the linear solver's analyses (its fill-reducing ordering included).
   [[nodiscard]] double analysisSeconds() const { return analysis_seconds_; }
+  /// Why the last solve() failed.
+  [[nodiscard]] const std::string& failure() const { return failure_; }
 
-  /// False on failure.
+  /// False on failure (failure() says why).
   bool solve(const PairSystem& sys, Eigen::VectorXd& x) {
+    failure_.clear();
     const int n = sys.unknowns();
     x.resize(n);
     const bool same = analyzed_ && sys.colPtr() == col_ptr_ && sys.rowIdx() == row_idx_;
@@ -103,9 +107,9 @@ class SpdSolver {
       if (!same) ldlt_.analyzePattern(a);
       analyzed_ = true;
       ldlt_.factorize(a);
-      if (ldlt_.info() != Eigen::Success) return false;
-      x = ldlt_.solve(sys.rhs());
-      return ldlt_.info() == Eigen::Success && x.allFinite();
+      if (ldlt_.info() == Eigen::Success) x = ldlt_.solve(sys.rhs());
+      if (ldlt_.info() != Eigen::Success) return fail("not positive definite (singular)");
+      return x.allFinite() || fail("its solution is not finite");
     }
     if (!same) {
       block_starts_.clear();
@@ -117,17 +121,26 @@ class SpdSolver {
       st.block_starts = block_starts_.data();
       st.num_blocks = n / 2;
       const auto t0 = std::chrono::steady_clock::now();
-      analyzed_ = solver_->analyze(st).ok();
+      const LinearSolverResult analysis = solver_->analyze(st);
+      analyzed_ = analysis.ok();
       analysis_seconds_ +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (!analyzed_) return false;
+      if (!analyzed_) return fail(solver_->name() + "'s analysis failed: " + analysis.message);
     }
-    return solver_->factorize(sys.values().data()).ok() &&
-           solver_->solve(sys.rhs().data(), x.data()).ok() && x.allFinite();
+    LinearSolverResult r = solver_->factorize(sys.values().data());
+    if (r.ok()) r = solver_->solve(sys.rhs().data(), x.data());
+    if (!r.ok()) return fail(solver_->name() + ": " + r.message);
+    return x.allFinite() || fail("its solution is not finite");
   }
 
  private:
+  bool fail(std::string why) {
+    failure_ = std::move(why);
+    return false;
+  }
+
   LinearSolver* solver_;
+  std::string failure_;
   Eigen::SimplicialLDLT<SpMat, Eigen::Upper> ldlt_;
   std::vector<int> col_ptr_, row_idx_, block_starts_;
   bool analyzed_ = false;

@@ -84,6 +84,37 @@ Graph noiseFreeLoop(int n, std::vector<SE2>& truth) {
 }
 }  // namespace
 
+namespace {
+/// A linear solver whose analysis fails, as one that runs out of memory does.
+class FailingSolver final : public LinearSolver {
+ public:
+  [[nodiscard]] std::string name() const override { return "failing"; }
+  LinearSolverResult analyze(const SparseStructure& /*structure*/) override {
+    return LinearSolverResult::failure(LinearSolverStatus::kFailure, "out of memory (test)");
+  }
+};
+}  // namespace
+
+// A system the solver cannot solve is said with the solver's reason, the estimates kept;
+// it is never reported as a graph with nothing to initialise.
+TEST(Init_InitialGuess, AFailedSystemIsSaidWithTheSolversReason) {
+  SolverRegistry solvers;
+  solvers.registerSolver("failing", "always fails",
+                         [] { return std::make_unique<FailingSolver>(); });
+  std::vector<SE2> truth;
+  Graph g = noiseFreeLoop(50, truth);
+  const init::InitialGuessReport r = init::initializeGraph(g, solvers, "failing");
+  EXPECT_EQ(r.poses, 0u);
+  ASSERT_EQ(r.lines.size(), 1u);
+  EXPECT_EQ(r.lines[0],
+            "orientation system not solved (failing's analysis failed: out of memory (test)): "
+            "initial estimates kept");
+  EXPECT_EQ(static_cast<VertexSE2*>(g.vertex(7))->estimate().translation().norm(), 0.0);
+  const auto solver = solvers.create("failing");
+  const init::InitializationReport direct = init::initializeGlobal(g, solver.get());
+  EXPECT_TRUE(direct.failed);
+}
+
 // Both steps (orientations, then positions in the same pattern's system, laid out once)
 // recover noise-free poses exactly, with Eigen's LDL^T and with the tool's default solver;
 // the report counts the solver's analysis (its ordering) within the seconds.

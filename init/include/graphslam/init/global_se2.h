@@ -20,6 +20,9 @@ struct InitializationReport {
   /// reuses, included.
   double analysis_seconds = 0.0;
   std::string message;  ///< empty on success; says what was skipped otherwise
+  /// A system was not solved (the message says which, and the linear solver's reason):
+  /// the estimates were kept. False when there was merely nothing to initialise.
+  bool failed = false;
 };
 
 /// Global initial guess for SE(2) graphs, in two linear least-squares steps:
