@@ -31,11 +31,17 @@ kill)
   run=("$t" optimize big.g2o -q --init none -i 1 -o out.g2o --stats out.csv)
   "${run[@]}" > /dev/null || fail reference run
   mv out.g2o new.g2o && mv out.csv new.csv
-  start=$(date +%s%N)
-  "${run[@]}" > /dev/null || fail timed run
-  total_us=$((($(date +%s%N) - start) / 1000))
+  # The fastest of three timed runs: a run timed while the machine was busy (other tests
+  # beside this one) would put the kill points past the end of the later, faster runs.
+  total_us=0
+  for timed in 1 2 3; do
+    start=$(date +%s%N)
+    "${run[@]}" > /dev/null || fail timed run
+    us=$((($(date +%s%N) - start) / 1000))
+    if [ "$total_us" -eq 0 ] || [ "$us" -lt "$total_us" ]; then total_us=$us; fi
+  done
   rm -f out.g2o out.csv
-  echo "a whole run takes ${total_us} us"
+  echo "a whole run takes ${total_us} us (the fastest of three)"
   killed=0 writing=0
   for k in $(seq 1 16); do
     cp previous.g2o out.g2o
