@@ -40,9 +40,9 @@ class OrderedFactor {
 
 /// METIS's vertex separator of a graph (through CHOLMOD's Partition module): the graph's
 /// upper triangle in compressed columns (`column_starts` of n + 1 entries, then the rows of
-/// each column, every row index less than its column's, no diagonal). Returns each vertex's side, 0
-/// or 1, or 2 for the separator: no edge joins side 0 to side 1. Throws graphslam::Error when METIS
-/// fails or this build has no SuiteSparse.
+/// each column, every row index less than its column's, no diagonal). Returns each vertex's
+/// side, 0 or 1, or 2 for the separator: no edge joins side 0 to side 1. Throws
+/// graphslam::Error when METIS fails or this build has no SuiteSparse.
 [[nodiscard]] std::vector<int> metisVertexSeparator(const std::vector<int>& column_starts,
                                                     const std::vector<int>& rows);
 
