@@ -78,7 +78,9 @@ constexpr const char* kOptimizeUsage =
     "--submaps K splits the graph into K submaps joined by separator vertices: each step is\n"
     "the direct path's (Gauss-Newton, damped when it fails), solved by eliminating every\n"
     "submap's interior onto the separator (--threads submaps at once) and solving the\n"
-    "separator system; memory holds the submaps being eliminated and the separator system.\n"
+    "separator system (--solver: cholmod by default; pcg, conjugate gradients in place, holds\n"
+    "no factor or copy of it); memory holds the submaps being eliminated and the separator\n"
+    "system.\n"
     "A graph without a small separator for K submaps is refused (docs/SUBMAPS.md).";
 
 /// A --stats line: the optimizer's figures, then the step strategy's (IterationStats).
@@ -235,10 +237,15 @@ bool parseOptimizeOptions(const std::vector<std::string>& args, OptimizeOptions&
   Optimizer::Options& options = o.options;
   if (o.iterations < 1) throw UsageError("--iterations must be at least 1");
   if (o.submaps < 0) throw UsageError("--submaps must be at least 1 (0: the direct path)");
-  if (o.submaps > 0 && (o.algorithm != "auto" || o.solver != "auto")) {
+  if (o.submaps > 0 && o.algorithm != "auto") {
     throw UsageError(
-        "--submaps takes its own steps (Gauss-Newton, damped when one fails) and solves "
-        "them by submaps: --algorithm and --solver do not apply");
+        "--submaps takes its own steps (Gauss-Newton, damped when one fails): --algorithm "
+        "does not apply");
+  }
+  if (o.submaps > 0 && o.solver.find(':') != std::string::npos) {
+    throw UsageError(
+        "--submaps: --solver names the separator system's solver, which takes "
+        "the system in its own order: no :ORDERING");
   }
   if (options.threads < 1 || options.threads > 256) {
     throw UsageError("--threads must be between 1 and 256");

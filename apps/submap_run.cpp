@@ -21,7 +21,8 @@ std::string csvLine(const submap::IterationStats& s) {
     << "gradient_norm=" << s.gradient_norm << ";lambda=" << s.lambda
     << ";separator_vertices=" << s.separator_vertices
     << ";separator_dimension=" << s.separator_dimension
-    << ";separator_nonzeros=" << s.separator_nonzeros;
+    << ";separator_nonzeros=" << s.separator_nonzeros
+    << ";separator_cg_iterations=" << s.separator_iterations;
   return o.str();
 }
 
@@ -61,7 +62,17 @@ Summary runSubmapSolver(Graph& graph, const SolverRegistry& solvers, int submaps
                         const Optimizer::Options& options, bool quiet,
                         std::vector<std::string>& csv) {
   submap::Options so;
-  if (solvers.contains(so.separator_solver)) so.solvers = &solvers;
+  // --solver names the separator system's solver: pcg its conjugate gradients in place
+  // (no factor, no copy); auto: cholmod where the build has it, else Eigen's simplicial
+  // LL^T (no registry).
+  if (options.linear_solver == "pcg") {
+    so.separator_method = submap::Options::SeparatorMethod::conjugate_gradients;
+  } else if (options.linear_solver != "auto") {
+    so.separator_solver = options.linear_solver;
+    so.solvers = &solvers;
+  } else if (solvers.contains(so.separator_solver)) {
+    so.solvers = &solvers;
+  }
   so.partition.num_submaps = submaps;
   so.max_iterations = options.max_iterations;
   so.function_tolerance = options.function_tolerance;
@@ -74,11 +85,14 @@ Summary runSubmapSolver(Graph& graph, const SolverRegistry& solvers, int submaps
   so.fix_gauge = options.fix_gauge;
   so.callback = [&csv, quiet](const submap::IterationStats& s) {
     if (!quiet) {
+      const std::string cg = s.separator_iterations > 0
+                                 ? ", " + std::to_string(s.separator_iterations) + " CG iterations"
+                                 : std::string();
       std::printf(
           "iter %3d  chi2 %.10g  gradient %.3e  step %.3e  lambda %.3e  separator %zu vertices "
-          "(dimension %d)  time %.4f s%s\n",
+          "(dimension %d%s)  time %.4f s%s\n",
           s.iteration, s.chi2, s.gradient_norm, s.step_norm, s.lambda, s.separator_vertices,
-          s.separator_dimension, s.time, s.accepted ? "" : "  (rejected)");
+          s.separator_dimension, cg.c_str(), s.time, s.accepted ? "" : "  (rejected)");
       std::fflush(stdout);
     }
     csv.push_back(csvLine(s));

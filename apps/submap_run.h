@@ -10,8 +10,9 @@
 
 namespace graphslam::apps {
 
-/// Optimises `graph` by `submaps` submaps (the separator system factorised by cholmod when
-/// `solvers` has it) with the iteration limits, tolerances and
+/// Optimises `graph` by `submaps` submaps (the separator system solved by the solver
+/// `options.linear_solver` names, or for "auto" by cholmod when `solvers` has it) with the
+/// iteration limits, tolerances and
 /// threads of `options`, printing a line per iteration (unless `quiet`: chi2, gradient
 /// norm, separator size, time) and the summary; adds the --stats lines to `csv` (the
 /// optimizer's columns, the submap figures in the strategy column). Returns the summary in

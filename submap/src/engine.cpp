@@ -148,6 +148,7 @@ bool tryStep(Engine& engine, const Options& options, Cost& cost, double& lambda,
         st.step_norm = out.step_norm;
         st.lambda = lambda;
         st.separator_nonzeros = out.separator_nonzeros;
+        st.separator_iterations = out.separator_iterations;
         return true;
       }
       at_rounding = trial == 0 && trial_cost.first - cost.first <= 1e-12 * cost.first;

@@ -24,6 +24,7 @@ struct StepOutcome {
   double step_norm = 0.0;
   double max_diagonal = 0.0;
   std::size_t separator_nonzeros = 0;
+  int separator_iterations = 0;  ///< conjugate gradients' (0: factorised)
   double time_eliminate = 0.0, time_separator = 0.0, time_back = 0.0;
 };
 

@@ -91,7 +91,7 @@ class MpiEngine final : public detail::Engine {
         mine_(submapsOfRank(partition, rank, size)),
         submaps_(partition, mine_, options.threads, options.keep_factorizations,
                  options.supernodal_interiors),
-        separator_(partition, rank == 0 ? options.solvers : nullptr, options.separator_solver),
+        separator_(partition, options, rank == 0),
         estimates_(partition) {}
 
   detail::Cost cost() override {
@@ -229,9 +229,10 @@ detail::StepOutcome MpiEngine::step(double lambda) {
   const int failed = gatherToRoot(send, false);
   out.time_eliminate = secondsSince(t);
   t = Clock::now();
-  // Rank 0 broadcasts: ok, the failed submap, gradient norm, largest diagonal, nonzeros, dx_S.
+  // Rank 0 broadcasts: ok, the failed submap, gradient norm, largest diagonal, nonzeros,
+  // conjugate-gradient iterations, dx_S.
   const auto ns = static_cast<std::size_t>(partition_.separator_offsets.back());
-  std::vector<double> reply(5 + ns, 0.0);
+  std::vector<double> reply(6 + ns, 0.0);
   if (rank_ == 0) {
     Eigen::VectorXd dx;
     bool ok = failed < 0 && separator_.solve(lambda, dx, out.message);
@@ -240,12 +241,14 @@ detail::StepOutcome MpiEngine::step(double lambda) {
     reply[2] = std::sqrt(interior_squared_ + separator_.gradientSquared());
     reply[3] = max_diagonal_;
     reply[4] = static_cast<double>(separator_.nonzeros());
-    if (ok) std::copy(dx.data(), dx.data() + ns, reply.begin() + 5);
+    reply[5] = separator_.iterations();
+    if (ok) std::copy(dx.data(), dx.data() + ns, reply.begin() + 6);
   }
   broadcast(reply.data(), reply.size());
   out.gradient_norm = reply[2];
   out.max_diagonal = reply[3];
   out.separator_nonzeros = static_cast<std::size_t>(reply[4]);
+  out.separator_iterations = static_cast<int>(reply[5]);
   out.time_separator = secondsSince(t);
   if (reply[0] == 0.0) {
     out.ok = false;
@@ -254,13 +257,15 @@ detail::StepOutcome MpiEngine::step(double lambda) {
                     ": its interior system is not positive definite (on rank " +
                     std::to_string(static_cast<int>(reply[1]) % size_) + ")";
     } else if (out.message.empty()) {
-      out.message = "the separator system is not positive definite";
+      out.message =
+          "the separator system was not solved (not positive definite, or its conjugate gradients "
+          "did not converge)";
     }
     return out;
   }
   t = Clock::now();
   const Eigen::VectorXd dx_s =
-      Eigen::Map<const Eigen::VectorXd>(reply.data() + 5, static_cast<Eigen::Index>(ns));
+      Eigen::Map<const Eigen::VectorXd>(reply.data() + 6, static_cast<Eigen::Index>(ns));
   double squared = 0.0;
   std::string message;
   std::vector<double> flags(static_cast<std::size_t>(size_) + 1, 0.0);

@@ -5,6 +5,8 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 
+#include "separator_cg.h"
+
 namespace graphslam::submap::detail {
 
 /// The separator system in the layout of SparseStructure (upper triangle, full diagonal
@@ -98,12 +100,14 @@ void addBlocks(const Partition& p, const Submap& sm, const Contribution& c,
 
 }  // namespace
 
-SeparatorSystem::SeparatorSystem(const Partition& partition, const SolverRegistry* solvers,
-                                 const std::string& solver)
-    : partition_(&partition) {
-  if (solvers != nullptr && !partition.separators.empty()) {
+SeparatorSystem::SeparatorSystem(const Partition& partition, const Options& options, bool solves)
+    : partition_(&partition),
+      cg_(options.separator_method == Options::SeparatorMethod::conjugate_gradients),
+      cg_tolerance_(options.separator_cg_tolerance),
+      cg_max_iterations_(options.separator_cg_max_iterations) {
+  if (solves && (cg_ || options.solvers != nullptr) && !partition.separators.empty()) {
     auto blocked = std::make_unique<Blocked>();
-    blocked->solver = solvers->create(solver);
+    if (!cg_) blocked->solver = options.solvers->create(options.separator_solver);
     buildStructure(partition, *blocked);
     blocked_ = std::move(blocked);
   }
@@ -185,10 +189,33 @@ bool SeparatorSystem::solveBlocked(double lambda, Eigen::VectorXd& step,
   return true;
 }
 
+bool SeparatorSystem::solveByCg(double lambda, Eigen::VectorXd& step, std::string& message) const {
+  const Blocked& s = *blocked_;
+  const int n = partition_->separator_offsets.back();
+  const BlockUpperCsc matrix{n,
+                             s.col_ptr.data(),
+                             s.row_idx.data(),
+                             s.values.data(),
+                             s.diagonal.data(),
+                             s.block_starts.data(),
+                             static_cast<int>(partition_->separators.size())};
+  nonzeros_ = s.values.size();
+  const CgOutcome out =
+      solveByConjugateGradients(matrix, lambda, -reduced_, step, cg_tolerance_, cg_max_iterations_);
+  iterations_ = out.iterations;
+  if (!out.ok) {
+    message = "the separator system (" + std::to_string(partition_->separators.size()) +
+              " vertices, dimension " + std::to_string(n) + ") not solved: " + out.message;
+  }
+  return out.ok;
+}
+
 bool SeparatorSystem::solve(double lambda, Eigen::VectorXd& step, std::string& message) const {
   const int n = partition_->separator_offsets.back();
   step.setZero(n);
+  iterations_ = 0;
   if (n == 0) return true;
+  if (blocked_ && cg_) return solveByCg(lambda, step, message);
   if (blocked_) return solveBlocked(lambda, step, message);
   Eigen::SparseMatrix<double> s(n, n);
   s.setFromTriplets(triplets_.begin(), triplets_.end());

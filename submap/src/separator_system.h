@@ -10,6 +10,7 @@
 
 #include "graphslam/core/linear_solver.h"
 #include "graphslam/submap/partition.h"
+#include "graphslam/submap/submap_solver.h"
 #include "submap_system.h"
 
 namespace graphslam::submap::detail {
@@ -19,11 +20,13 @@ namespace graphslam::submap::detail {
 /// separator part of the Gauss-Newton (or damped) step of the whole graph.
 class SeparatorSystem {
  public:
-  /// With `solvers`, the system is factorised by their solver `solver` (a sparse Cholesky
-  /// that takes H in its given order, such as "cholmod"); without, by Eigen's simplicial
-  /// LLT^T. Throws RegistryError for an unknown name.
-  SeparatorSystem(const Partition& partition, const SolverRegistry* solvers = nullptr,
-                  const std::string& solver = "cholmod");
+  /// Solved as `options` says (Options::separator_method): by conjugate gradients on the
+  /// assembled blocks in place; or factorised by `options.separator_solver` of
+  /// `options.solvers` (a sparse Cholesky that takes the matrix in its given order, such as
+  /// "cholmod"), or by Eigen's simplicial LL^T without a registry. `solves` false: a
+  /// process that only sums contributions (no solver made). Throws RegistryError for an
+  /// unknown solver name.
+  SeparatorSystem(const Partition& partition, const Options& options, bool solves = true);
   ~SeparatorSystem();
 
   /// Forgets every contribution.
@@ -38,15 +41,22 @@ class SeparatorSystem {
   struct Blocked;  ///< the block CSC layout for a registry's solver
   /// Stored entries of S (upper triangle), after the last solve.
   [[nodiscard]] std::size_t nonzeros() const { return nonzeros_; }
+  /// Conjugate-gradient iterations of the last solve (0 when factorised).
+  [[nodiscard]] int iterations() const { return iterations_; }
 
  private:
   [[nodiscard]] bool solveBlocked(double lambda, Eigen::VectorXd& step, std::string& message) const;
+  [[nodiscard]] bool solveByCg(double lambda, Eigen::VectorXd& step, std::string& message) const;
 
   const Partition* partition_;
   std::unique_ptr<Blocked> blocked_;  // the registry's solver on a block CSC, or null
   std::vector<Eigen::Triplet<double>> triplets_;
   Eigen::VectorXd reduced_, gradient_;
+  bool cg_ = false;
+  double cg_tolerance_ = 0.0;
+  int cg_max_iterations_ = 0;
   mutable std::size_t nonzeros_ = 0;
+  mutable int iterations_ = 0;
 };
 
 }  // namespace graphslam::submap::detail

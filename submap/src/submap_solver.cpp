@@ -24,7 +24,7 @@ class LocalEngine final : public detail::Engine {
       : partition_(partition),
         submaps_(partition, allIndices(partition), options.threads, options.keep_factorizations,
                  options.supernodal_interiors),
-        separator_(partition, options.solvers, options.separator_solver),
+        separator_(partition, options),
         estimates_(partition) {}
 
   detail::Cost cost() override {
@@ -59,6 +59,7 @@ class LocalEngine final : public detail::Engine {
     Eigen::VectorXd dx_s;
     out.ok = separator_.solve(lambda, dx_s, out.message);
     out.separator_nonzeros = separator_.nonzeros();
+    out.separator_iterations = separator_.iterations();
     out.time_separator = secondsSince(t);
     if (!out.ok) return out;
     t = Clock::now();

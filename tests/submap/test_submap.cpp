@@ -119,6 +119,18 @@ TEST(Submap_Solver, SameOptimumWithTheSeparatorSystemByCholmod) {
   expectSameOptimum([] { return manhattan(1500); }, 5, true);
 }
 
+TEST(Submap_Solver, SameOptimumWithTheSeparatorSystemByConjugateGradients) {
+  int cg_iterations = 0;
+  expectSameOptimum([] { return manhattan(1500); }, 5, false,
+                    [&](submap::Options& o) {
+                      o.separator_method = submap::Options::SeparatorMethod::conjugate_gradients;
+                      o.callback = [&](const submap::IterationStats& s) {
+                        cg_iterations = std::max(cg_iterations, s.separator_iterations);
+                      };
+                    });
+  EXPECT_GT(cg_iterations, 1);
+}
+
 TEST(Submap_Solver, SameOptimumWithLandmarks) {
   expectSameOptimum([] { return manhattan(600, 150); }, 3);
 }

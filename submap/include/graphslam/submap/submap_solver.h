@@ -26,6 +26,8 @@ struct IterationStats {
   std::size_t separator_vertices = 0;
   int separator_dimension = 0;
   std::size_t separator_nonzeros = 0;  ///< stored entries of the separator system (upper)
+  /// Conjugate-gradient iterations of the accepted step's separator solve (0: factorised).
+  int separator_iterations = 0;
   double time_eliminate = 0.0;  ///< linearise, assemble, factorise interiors, Schur complements
   double time_separator = 0.0;  ///< assemble and solve the separator system
   double time_back = 0.0;       ///< back-substitution, update and objective of the step
@@ -84,9 +86,26 @@ struct Options {
   /// trailing block). Off, or in a build without CHOLMOD: Eigen's simplicial LL^T of the
   /// interior, then the Schur complement from its triangular solves.
   bool supernodal_interiors = true;
-  /// The separator system's factorisation: `separator_solver` of `solvers` (a sparse
-  /// Cholesky that takes the matrix in its given order: "cholmod", supernodal, fits the
-  /// dense blocks the submaps leave there), or Eigen's simplicial LL^T when `solvers` is null.
+  /// How the separator system is solved.
+  enum class SeparatorMethod {
+    /// Factorised by `separator_solver`: its factor and a copy of the matrix beside the
+    /// assembled one.
+    factorization,
+    /// Conjugate gradients preconditioned by its diagonal blocks (block Jacobi), reading
+    /// the assembled matrix in place: no factor and no copy, so memory holds the matrix's
+    /// values and pattern once; each iteration is one product with it. The step is the
+    /// direct path's to `separator_cg_tolerance` (the summary's gradient norm shows it).
+    conjugate_gradients,
+  };
+  SeparatorMethod separator_method = SeparatorMethod::factorization;
+  /// Conjugate gradients stop at |r + (S + lambda I) dx_S| <= this * |r| (S the separator
+  /// system, r its reduced gradient)...
+  double separator_cg_tolerance = 1e-10;
+  /// ...and refuse the step when this many iterations do not reach it (a damped retry).
+  int separator_cg_max_iterations = 20000;
+  /// The factorisation: `separator_solver` of `solvers` (a sparse Cholesky that takes the
+  /// matrix in its given order: "cholmod", supernodal, fits the dense blocks the submaps
+  /// leave there), or Eigen's simplicial LL^T when `solvers` is null.
   const SolverRegistry* solvers = nullptr;
   std::string separator_solver = "cholmod";
   std::function<void(const IterationStats&)> callback;
