@@ -25,7 +25,7 @@ struct BlockUpperCsc {
 struct CgOutcome {
   bool ok = false;
   int iterations = 0;
-  double relative_residual = 0.0;  ///< |b - (S + lambda I) x| / |b| at the end
+  double relative_residual = 0.0;  ///< the recurrence's |b - (S + lambda I) x| / |b| at the end
   std::string message;             ///< when !ok
 };
 
