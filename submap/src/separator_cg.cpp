@@ -57,7 +57,9 @@ class BlockJacobi {
   void apply(const BlockUpperCsc& s, const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
     for (int b = 0; b < s.num_blocks; ++b) {
       const int first = s.block_starts[b], d = s.block_starts[b + 1] - first;
-      z.segment(first, d) = factors_[static_cast<std::size_t>(b)].solve(r.segment(first, d));
+      auto zb = z.segment(first, d);
+      zb = r.segment(first, d);
+      factors_[static_cast<std::size_t>(b)].solveInPlace(zb);  // no temporary per block
     }
   }
 

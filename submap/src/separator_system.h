@@ -38,7 +38,7 @@ class SeparatorSystem {
   [[nodiscard]] bool solve(double lambda, Eigen::VectorXd& step, std::string& message) const;
   /// |g_S|^2 of the summed (undamped, unreduced) separator gradient.
   [[nodiscard]] double gradientSquared() const { return gradient_.squaredNorm(); }
-  struct Blocked;  ///< the block CSC layout for a registry's solver
+  struct Blocked;  ///< the block CSC layout (a registry's solver or conjugate gradients)
   /// Stored entries of S (upper triangle), after the last solve.
   [[nodiscard]] std::size_t nonzeros() const { return nonzeros_; }
   /// Conjugate-gradient iterations of the last solve (0 when factorised).
@@ -49,7 +49,7 @@ class SeparatorSystem {
   [[nodiscard]] bool solveByCg(double lambda, Eigen::VectorXd& step, std::string& message) const;
 
   const Partition* partition_;
-  std::unique_ptr<Blocked> blocked_;  // the registry's solver on a block CSC, or null
+  std::unique_ptr<Blocked> blocked_;  // the block CSC (and a registry's solver), or null
   std::vector<Eigen::Triplet<double>> triplets_;
   Eigen::VectorXd reduced_, gradient_;
   bool cg_ = false;
