@@ -4,6 +4,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <map>
 
 #include "separator_cg.h"
 
@@ -98,18 +99,41 @@ void addBlocks(const Partition& p, const Submap& sm, const Contribution& c,
   }
 }
 
+/// Numbers the separator vertices' aggregates: vertices touched by the same submaps share
+/// one, numbered in order of their first vertex. Returns the count.
+int aggregateBySubmaps(const Partition& p, std::vector<int>& aggregate) {
+  std::vector<std::vector<int>> touching(p.separators.size());
+  for (std::size_t k = 0; k < p.submaps.size(); ++k) {
+    for (int v : p.submaps[k].separators) {
+      touching[static_cast<std::size_t>(v)].push_back(static_cast<int>(k));
+    }
+  }
+  std::map<std::vector<int>, int> number;
+  aggregate.resize(p.separators.size());
+  for (std::size_t v = 0; v < touching.size(); ++v) {
+    aggregate[v] =
+        number.emplace(std::move(touching[v]), static_cast<int>(number.size())).first->second;
+  }
+  return static_cast<int>(number.size());
+}
+
 }  // namespace
 
 SeparatorSystem::SeparatorSystem(const Partition& partition, const Options& options, bool solves)
     : partition_(&partition),
       cg_(options.separator_method == Options::SeparatorMethod::conjugate_gradients),
       cg_tolerance_(options.separator_cg_tolerance),
-      cg_max_iterations_(options.separator_cg_max_iterations) {
+      cg_max_iterations_(options.separator_cg_max_iterations),
+      cg_local_dimension_(options.separator_cg_local_dimension),
+      cg_coarse_(options.separator_cg_coarse) {
   if (solves && (cg_ || options.solvers != nullptr) && !partition.separators.empty()) {
     auto blocked = std::make_unique<Blocked>();
     if (!cg_) blocked->solver = options.solvers->create(options.separator_solver);
     buildStructure(partition, *blocked);
     blocked_ = std::move(blocked);
+    if (cg_ && (cg_coarse_ || cg_local_dimension_ > 0)) {
+      num_aggregates_ = aggregateBySubmaps(partition, aggregates_);
+    }
   }
   clear();
 }
@@ -198,10 +222,13 @@ bool SeparatorSystem::solveByCg(double lambda, Eigen::VectorXd& step, std::strin
                              s.values.data(),
                              s.diagonal.data(),
                              s.block_starts.data(),
-                             static_cast<int>(partition_->separators.size())};
+                             static_cast<int>(partition_->separators.size()),
+                             aggregates_.empty() ? nullptr : aggregates_.data(),
+                             num_aggregates_};
   nonzeros_ = s.values.size();
   const CgOutcome out =
-      solveByConjugateGradients(matrix, lambda, -reduced_, step, cg_tolerance_, cg_max_iterations_);
+      solveByConjugateGradients(matrix, lambda, -reduced_, step, cg_tolerance_, cg_max_iterations_,
+                                {cg_coarse_, cg_local_dimension_});
   iterations_ = out.iterations;
   if (!out.ok) {
     message = "the separator system (" + std::to_string(partition_->separators.size()) +

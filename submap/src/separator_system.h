@@ -55,6 +55,10 @@ class SeparatorSystem {
   bool cg_ = false;
   double cg_tolerance_ = 0.0;
   int cg_max_iterations_ = 0;
+  int cg_local_dimension_ = 0;
+  bool cg_coarse_ = false;
+  std::vector<int> aggregates_;  // per separator vertex, for the CG's coarse level (or empty)
+  int num_aggregates_ = 0;
   mutable std::size_t nonzeros_ = 0;
   mutable int iterations_ = 0;
 };

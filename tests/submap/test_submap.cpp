@@ -119,16 +119,33 @@ TEST(Submap_Solver, SameOptimumWithTheSeparatorSystemByCholmod) {
   expectSameOptimum([] { return manhattan(1500); }, 5, true);
 }
 
+// Every preconditioner: block Jacobi alone, with the coarse level, with aggregates'
+// chunks as local blocks, with both (the default).
 TEST(Submap_Solver, SameOptimumWithTheSeparatorSystemByConjugateGradients) {
-  int cg_iterations = 0;
-  expectSameOptimum([] { return manhattan(1500); }, 5, false,
-                    [&](submap::Options& o) {
+  for (const bool coarse : {false, true}) {
+    for (const int local_dimension : {0, 300}) {
+      int cg_iterations = 0;
+      expectSameOptimum([] { return manhattan(1500); }, 5, false,
+                        [&](submap::Options& o) {
+                          o.separator_method =
+                              submap::Options::SeparatorMethod::conjugate_gradients;
+                          o.separator_cg_coarse = coarse;
+                          o.separator_cg_local_dimension = local_dimension;
+                          o.callback = [&](const submap::IterationStats& s) {
+                            cg_iterations = std::max(cg_iterations, s.separator_iterations);
+                          };
+                        });
+      EXPECT_GT(cg_iterations, 1) << "coarse " << coarse << ", local " << local_dimension;
+    }
+  }
+}
+
+// Aggregates of poses and landmarks (blocks of dimensions 3 and 2).
+TEST(Submap_Solver, SameOptimumWithLandmarksByConjugateGradients) {
+  expectSameOptimum([] { return manhattan(600, 150); }, 3, false,
+                    [](submap::Options& o) {
                       o.separator_method = submap::Options::SeparatorMethod::conjugate_gradients;
-                      o.callback = [&](const submap::IterationStats& s) {
-                        cg_iterations = std::max(cg_iterations, s.separator_iterations);
-                      };
                     });
-  EXPECT_GT(cg_iterations, 1);
 }
 
 TEST(Submap_Solver, SameOptimumWithLandmarks) {

@@ -91,7 +91,7 @@ struct Options {
     /// Factorised by `separator_solver`: its factor and a copy of the matrix beside the
     /// assembled one.
     factorization,
-    /// Conjugate gradients preconditioned by its diagonal blocks (block Jacobi), reading
+    /// Conjugate gradients with a two-level preconditioner (below), reading
     /// the assembled matrix in place: no factor and no copy, so memory holds the matrix's
     /// values and pattern once; each iteration is one product with it. The step is the
     /// direct path's to `separator_cg_tolerance` (the summary's gradient norm shows it).
@@ -103,6 +103,16 @@ struct Options {
   double separator_cg_tolerance = 1e-10;
   /// ...and refuse the step when this many iterations do not reach it (a damped retry).
   int separator_cg_max_iterations = 20000;
+  /// The conjugate gradients' preconditioner works on aggregates: the separator vertices
+  /// touched by the same set of submaps. A coarse level, one small system with an unknown
+  /// per aggregate and component (the aggregate moved as one), corrects the whole separator
+  /// at every iteration; without it, information crosses one block per iteration and the
+  /// iteration count grows with the number of submaps across the map.
+  bool separator_cg_coarse = true;
+  /// The local level factorises each aggregate's diagonal blocks together, in dense chunks
+  /// of at most this many columns (memory: up to this many doubles per separator column);
+  /// 0: each separator vertex's block alone (block Jacobi).
+  int separator_cg_local_dimension = 300;
   /// The factorisation: `separator_solver` of `solvers` (a sparse Cholesky that takes the
   /// matrix in its given order: "cholmod", supernodal, fits the dense blocks the submaps
   /// leave there), or Eigen's simplicial LL^T when `solvers` is null.
