@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // graphslam-mpi: the submap solver across MPI ranks (docs/SUBMAPS.md), launched by mpirun:
 //   mpirun -np 3 graphslam-mpi IN.g2o --submaps 6 [-o OUT.g2o] [-i N] [--threads N]
+//                              [--solver cholmod|pcg|NAME]
 // Every rank reads IN and computes the same initial guess and partition; rank 0 prints the
 // progress (with the bytes the ranks exchanged) and writes OUT.
 #include <boost/program_options.hpp>
@@ -25,15 +26,16 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: mpirun -np RANKS graphslam-mpi IN.g2o --submaps K [-o OUT.g2o] [-i N] [--threads N]\n"
-    "                                      [--init global|none] [--quiet]\n"
+    "                                      [--init global|none] [--solver NAME] [--quiet]\n"
     "Optimises a 2D or 3D graph by K submaps spread over the MPI ranks (rank r holds submaps\n"
     "r, r + RANKS, ...): each rank eliminates its submaps' interiors and sends rank 0 their\n"
-    "separator blocks; rank 0 solves the separator system and broadcasts the step. The result\n"
+    "separator blocks; rank 0 solves the separator system (--solver: cholmod by default; pcg,\n"
+    "conjugate gradients in place) and broadcasts the step. The result\n"
     "is that of graphslam optimize --submaps K. Exit 0 on success, 1 when the optimisation\n"
     "fails, 2 for bad arguments or input. A rank that dies makes mpirun stop every rank.";
 
 struct Arguments {
-  std::string input, output, init = "global";
+  std::string input, output, init = "global", solver = "cholmod";
   int submaps = 0, iterations = 100, threads = 1;
   bool quiet = false;
 };
@@ -47,7 +49,9 @@ int parseArguments(int argc, char** argv, Arguments& a, bool root) {
       "iterations,i", po::value(&a.iterations)->default_value(100), "maximum iterations")(
       "threads", po::value(&a.threads)->default_value(1), "threads per rank")(
       "init", po::value(&a.init)->default_value("global"), "initial guess: global or none")(
-      "quiet,q", "print only the summary");
+      "solver", po::value(&a.solver)->default_value("cholmod"),
+      "the separator system's solver on rank 0: pcg (conjugate gradients in place, no factor) "
+      "or a sparse Cholesky of `graphslam solvers` (cholmod)")("quiet,q", "print only the summary");
   po::positional_options_description pos;
   pos.add("input", 1);
   po::variables_map vm;
@@ -93,6 +97,18 @@ int run(const Arguments& a, const submap::MpiSession& mpi) {
   options.partition.num_submaps = a.submaps;
   options.max_iterations = a.iterations;
   options.threads = a.threads;
+  if (a.solver == "pcg") {
+    options.separator_method = submap::Options::SeparatorMethod::conjugate_gradients;
+  } else if (a.solver.find(':') == std::string::npos && solvers.contains(a.solver)) {
+    options.separator_solver = a.solver;
+  } else {
+    if (root) {
+      std::cerr << "graphslam-mpi: --solver " << a.solver
+                << ": not a separator solver (pcg, or a solver of graphslam list-solvers, "
+                   "without :ORDERING)\n";
+    }
+    return 2;
+  }
   options.solvers = solvers.contains(options.separator_solver) ? &solvers : nullptr;
   if (root) {
     std::printf("%s: %zu vertices, %zu edges; %d ranks, %d submaps\n", a.input.c_str(),
@@ -100,9 +116,12 @@ int run(const Arguments& a, const submap::MpiSession& mpi) {
     if (!a.quiet) {
       options.callback = [](const submap::IterationStats& s) {
         std::printf(
-            "iter %3d  chi2 %.10g  gradient %.3e  step %.3e  separator %zu vertices  "
+            "iter %3d  chi2 %.10g  gradient %.3e  step %.3e  separator %zu vertices%s  "
             "communicated %.3f MB  time %.4f s%s\n",
             s.iteration, s.chi2, s.gradient_norm, s.step_norm, s.separator_vertices,
+            s.separator_iterations > 0
+                ? (" (" + std::to_string(s.separator_iterations) + " CG iterations)").c_str()
+                : "",
             static_cast<double>(s.bytes_communicated) / 1e6, s.time,
             s.accepted ? "" : "  (rejected)");
         std::fflush(stdout);
