@@ -51,7 +51,8 @@ int parseArguments(int argc, char** argv, Arguments& a, bool root) {
       "init", po::value(&a.init)->default_value("global"), "initial guess: global or none")(
       "solver", po::value(&a.solver)->default_value("cholmod"),
       "the separator system's solver on rank 0: pcg (conjugate gradients in place, no factor) "
-      "or a sparse Cholesky of `graphslam solvers` (cholmod)")("quiet,q", "print only the summary");
+      "or a sparse Cholesky of `graphslam list-solvers` (cholmod)")("quiet,q",
+                                                                    "print only the summary");
   po::positional_options_description pos;
   pos.add("input", 1);
   po::variables_map vm;
@@ -86,6 +87,15 @@ int run(const Arguments& a, const submap::MpiSession& mpi) {
   solvers::retainFreedMemory();  // every submap's factor is made and freed once or twice a step
   SolverRegistry solvers;
   solvers::registerSolvers(solvers);
+  if (a.solver != "pcg" &&
+      (a.solver.find(':') != std::string::npos || !solvers.contains(a.solver))) {
+    if (root) {  // before reading the file: every rank stops alike
+      std::cerr << "graphslam-mpi: --solver " << a.solver
+                << ": not a separator solver (pcg, or a solver of graphslam list-solvers, "
+                   "without :ORDERING)\n";
+    }
+    return 2;
+  }
   io::LoadResult loaded = io::loadG2o(a.input, types);
   if (!loaded.ok()) {  // every rank reads the same file and stops alike
     if (root) std::cerr << "graphslam-mpi: " << loaded.diagnostics.front().str() << "\n";
@@ -99,15 +109,8 @@ int run(const Arguments& a, const submap::MpiSession& mpi) {
   options.threads = a.threads;
   if (a.solver == "pcg") {
     options.separator_method = submap::Options::SeparatorMethod::conjugate_gradients;
-  } else if (a.solver.find(':') == std::string::npos && solvers.contains(a.solver)) {
-    options.separator_solver = a.solver;
   } else {
-    if (root) {
-      std::cerr << "graphslam-mpi: --solver " << a.solver
-                << ": not a separator solver (pcg, or a solver of graphslam list-solvers, "
-                   "without :ORDERING)\n";
-    }
-    return 2;
+    options.separator_solver = a.solver;
   }
   options.solvers = solvers.contains(options.separator_solver) ? &solvers : nullptr;
   if (root) {

@@ -57,7 +57,7 @@ class SeparatorSystem {
   int cg_max_iterations_ = 0;
   int cg_local_dimension_ = 0;
   bool cg_coarse_ = false;
-  std::vector<int> aggregates_;  // per separator vertex, for the CG's coarse level (or empty)
+  std::vector<int> aggregates_;  // per separator vertex, for the CG's preconditioner (or empty)
   int num_aggregates_ = 0;
   mutable std::size_t nonzeros_ = 0;
   mutable int iterations_ = 0;
