@@ -52,13 +52,14 @@ class LocalBlocks {
  public:
   /// Each block alone when `max_dimension` is 0 or there are no aggregates; else each
   /// aggregate's blocks in chunks of at most `max_dimension` columns (or one block).
-  void group(const BlockUpperCsc& s, int max_dimension) {
+  void group(const BlockUpperCsc& s, int max_dimension,
+             const std::vector<std::vector<int>>& aggregates) {
     groups_.clear();
     if (max_dimension <= 0 || s.block_group == nullptr) {
       for (int b = 0; b < s.num_blocks; ++b) groups_.push_back({b});
       return;
     }
-    for (const std::vector<int>& members : aggregateMembers(s)) {
+    for (const std::vector<int>& members : aggregates) {
       int columns = max_dimension;
       for (int b : members) {
         if (columns + dimension(s, b) > max_dimension) {
@@ -74,19 +75,21 @@ class LocalBlocks {
   /// definite.
   bool compute(const BlockUpperCsc& s, double lambda, int& bad_group) {
     factors_.resize(groups_.size());
+    Eigen::Index widest = 0;
     for (std::size_t g = 0; g < groups_.size(); ++g) {
       factors_[g].compute(gather(s, groups_[g], lambda));
+      widest = std::max(widest, factors_[g].rows());
       if (factors_[g].info() != Eigen::Success) {
         bad_group = static_cast<int>(g);
         return false;
       }
     }
+    scratch_.resize(widest);
     return true;
   }
   void apply(const BlockUpperCsc& s, const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
-    Eigen::VectorXd local;
     for (std::size_t g = 0; g < groups_.size(); ++g) {
-      local.resize(factors_[g].rows());
+      auto local = scratch_.head(factors_[g].rows());  // no allocation per group and iteration
       int k = 0;
       for (int b : groups_[g]) {
         for (int c = s.block_starts[b]; c < s.block_starts[b + 1]; ++c) local[k++] = r[c];
@@ -142,6 +145,7 @@ class LocalBlocks {
   }
 
   std::vector<std::vector<int>> groups_;  // blocks, increasing
+  mutable Eigen::VectorXd scratch_;       // as long as the widest group
   std::vector<Eigen::LLT<Eigen::MatrixXd>> factors_;
 };
 
@@ -151,15 +155,19 @@ class LocalBlocks {
 class CoarseSpace {
  public:
   /// False when E is not positive definite.
-  bool compute(const BlockUpperCsc& s, double lambda) {
-    llt_.compute(matrix(s, lambda));
+  bool compute(const BlockUpperCsc& s, double lambda,
+               const std::vector<std::vector<int>>& aggregates) {
+    llt_.compute(matrix(s, lambda, aggregates));
+    restricted_.resize(offsets_.back());
+    solved_.resize(offsets_.back());
     return llt_.info() == Eigen::Success;
   }
-  /// E = Z^T (S + lambda I) Z.
-  Eigen::SparseMatrix<double> matrix(const BlockUpperCsc& s, double lambda) {
+  /// E = Z^T (S + lambda I) Z; `aggregates` lists each aggregate's blocks.
+  Eigen::SparseMatrix<double> matrix(const BlockUpperCsc& s, double lambda,
+                                     const std::vector<std::vector<int>>& aggregates) {
     numberUnknowns(s);
     std::vector<Eigen::Triplet<double>> triplets;
-    assemble(s, triplets);
+    assemble(s, aggregates, triplets);
     for (int b = 0; b < s.num_blocks; ++b) {
       for (int c = 0; c < dimension(s, b); ++c) {
         triplets.emplace_back(unknown(s, b, c), unknown(s, b, c), lambda);
@@ -170,15 +178,15 @@ class CoarseSpace {
     return e;
   }
   void addCorrection(const BlockUpperCsc& s, const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
-    Eigen::VectorXd coarse = Eigen::VectorXd::Zero(offsets_.back());
+    restricted_.setZero();
     for (int b = 0; b < s.num_blocks; ++b) {
       for (int c = 0; c < dimension(s, b); ++c)
-        coarse[unknown(s, b, c)] += r[s.block_starts[b] + c];
+        restricted_[unknown(s, b, c)] += r[s.block_starts[b] + c];
     }
-    coarse = llt_.solve(coarse);
+    solved_ = llt_.solve(restricted_);  // both sized by compute(): no allocation per iteration
     for (int b = 0; b < s.num_blocks; ++b) {
       for (int c = 0; c < dimension(s, b); ++c)
-        z[s.block_starts[b] + c] += coarse[unknown(s, b, c)];
+        z[s.block_starts[b] + c] += solved_[unknown(s, b, c)];
     }
   }
 
@@ -190,9 +198,6 @@ class CoarseSpace {
     Eigen::MatrixXd mirrored;  // E(this aggregate, row aggregate)^T: off-diagonal blocks' entries
   };
 
-  static int dimension(const BlockUpperCsc& s, int b) {
-    return s.block_starts[b + 1] - s.block_starts[b];
-  }
   [[nodiscard]] int unknown(const BlockUpperCsc& s, int block, int component) const {
     return offsets_[static_cast<std::size_t>(s.block_group[block])] + component;
   }
@@ -218,8 +223,8 @@ class CoarseSpace {
   /// E's triplets, aggregate by aggregate: its column blocks are summed into one dense
   /// block per row aggregate first, so E's assembly holds a few triplets per pair of
   /// aggregates, not one per entry of S.
-  void assemble(const BlockUpperCsc& s, std::vector<Eigen::Triplet<double>>& triplets) const {
-    const std::vector<std::vector<int>> members = aggregateMembers(s);
+  void assemble(const BlockUpperCsc& s, const std::vector<std::vector<int>>& members,
+                std::vector<Eigen::Triplet<double>>& triplets) const {
     std::vector<int> slot(static_cast<std::size_t>(s.num_groups), -1);
     std::vector<Sum> sums;
     for (int g = 0; g < s.num_groups; ++g) {
@@ -269,12 +274,13 @@ class CoarseSpace {
   std::vector<int> offsets_;       // first unknown of each aggregate; one more: E's dimension
   std::vector<int> block_of_row_;  // the block of each row of S
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt_;
+  mutable Eigen::VectorXd restricted_, solved_;  // Z^T r and E^-1 Z^T r
 };
 
 }  // namespace
 
 Eigen::MatrixXd coarseSystem(const BlockUpperCsc& s, double lambda) {
-  return Eigen::MatrixXd(CoarseSpace().matrix(s, lambda));
+  return Eigen::MatrixXd(CoarseSpace().matrix(s, lambda, aggregateMembers(s)));
 }
 
 CgOutcome solveByConjugateGradients(const BlockUpperCsc& s, double lambda, const Eigen::VectorXd& b,
@@ -287,8 +293,10 @@ CgOutcome solveByConjugateGradients(const BlockUpperCsc& s, double lambda, const
     out.ok = true;
     return out;
   }
+  const std::vector<std::vector<int>> aggregates =
+      s.block_group != nullptr ? aggregateMembers(s) : std::vector<std::vector<int>>{};
   LocalBlocks local;
-  local.group(s, preconditioner.local_dimension);
+  local.group(s, preconditioner.local_dimension, aggregates);
   int bad_group = -1;
   if (!local.compute(s, lambda, bad_group)) {
     out.message = local.describe(s, bad_group) + " is not positive definite";
@@ -296,7 +304,7 @@ CgOutcome solveByConjugateGradients(const BlockUpperCsc& s, double lambda, const
   }
   const bool two_level = preconditioner.coarse_level && s.block_group != nullptr;
   CoarseSpace coarse;
-  if (two_level && !coarse.compute(s, lambda)) {
+  if (two_level && !coarse.compute(s, lambda, aggregates)) {
     out.message = "the coarse system of its " + std::to_string(s.num_groups) +
                   " aggregates is not positive definite";
     return out;
